@@ -1,0 +1,17 @@
+#include "commands.h"
+
+namespace ffd::cli {
+
+namespace {
+Action gSelected;
+} // namespace
+
+void registerCommands(CLI::App& app) {
+    addMeshInfoCommand(app, gSelected);
+}
+
+int runSelected(CLI::App&) {
+    return gSelected ? gSelected() : 2;
+}
+
+} // namespace ffd::cli

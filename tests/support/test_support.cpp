@@ -1,0 +1,84 @@
+#include "test_support.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace ffd::test {
+
+TempDir::TempDir() {
+    static int counter = 0;
+    path_ = std::filesystem::temp_directory_path() /
+            ("ffdaabb-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+void writeFile(const std::filesystem::path& path, const std::string& content) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(content.data(), std::streamsize(content.size()));
+    if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string readFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+SmoothDeformation::SmoothDeformation(uint32_t seed, float size, float amplitude) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    auto randomUnit = [&] {
+        for (;;) {
+            Vec3 v{u(rng), u(rng), u(rng)};
+            const float l = length(v);
+            if (l > 0.1f && l <= 1.0f) return v / l;
+        }
+    };
+    for (int i = 0; i < 4; ++i) {
+        Wave w;
+        w.direction = randomUnit() * (3.14159265f / size * (0.5f + 0.5f * std::fabs(u(rng))));
+        w.offset = randomUnit() * (amplitude * size * 0.25f);
+        w.phase = 3.14159265f * u(rng);
+        waves_.push_back(w);
+    }
+}
+
+Vec3 SmoothDeformation::operator()(Vec3 p) const {
+    Vec3 q = p;
+    for (const Wave& w : waves_) q += w.offset * std::sin(dot(w.direction, p) + w.phase);
+    return q;
+}
+
+bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol) {
+    for (int a = 0; a < 8; ++a)
+        for (int b = a + 1; b < 8; ++b)
+            for (int c = b + 1; c < 8; ++c) {
+                const Vec3 n = cross(points[b] - points[a], points[c] - points[a]);
+                const float len = length(n);
+                if (len < 1e-12f) continue;
+                const Vec3 unit = n / len;
+                float lo = 0, hi = 0;
+                for (int k = 0; k < 8; ++k) {
+                    const float d = dot(unit, points[k] - points[a]);
+                    lo = std::min(lo, d), hi = std::max(hi, d);
+                }
+                const float scale = std::max(hi - lo, 1e-30f);
+                // Supporting plane when all points lie (numerically) on one side.
+                const float pd = dot(unit, p - points[a]);
+                if (lo >= -1e-6f * scale && pd < -tol) return false;
+                if (hi <= 1e-6f * scale && pd > tol) return false;
+            }
+    return true;
+}
+
+} // namespace ffd::test

@@ -1,0 +1,52 @@
+// Helpers shared by the test folders.
+#pragma once
+
+#include "ffdaabb/math.h"
+
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace ffd::test {
+
+/// A fresh empty folder under the system temp dir, removed with its contents on destruction.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
+
+/// Writes `content` to `path` (binary, exact bytes).
+void writeFile(const std::filesystem::path& path, const std::string& content);
+/// Reads a whole file.
+std::string readFile(const std::filesystem::path& path);
+
+/// A smooth random deformation of space: x -> x + amplitude * size * sum of a few low-frequency
+/// sine waves along random directions, deterministic for a seed. `size` sets the length scale.
+class SmoothDeformation {
+public:
+    SmoothDeformation(uint32_t seed, float size, float amplitude);
+    Vec3 operator()(Vec3 p) const;
+
+private:
+    struct Wave {
+        Vec3 direction; // wave vector (1/m)
+        Vec3 offset;    // displacement direction * amplitude
+        float phase;
+    };
+    std::vector<Wave> waves_;
+};
+
+/// True when p lies in the convex hull of the 8 points (within tol, absolute): for every plane
+/// through three of the points that has all 8 on one side, p must be on that side too.
+bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol);
+
+} // namespace ffd::test
