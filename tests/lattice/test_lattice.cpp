@@ -1,0 +1,369 @@
+#include "ffdaabb/error.h"
+#include "ffdaabb/generators.h"
+#include "ffdaabb/lattice.h"
+#include "lattice/geometry.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace ffd;
+
+namespace {
+
+// Shapes with different character: a closed sphere, a flattened ellipsoid, an open plate
+// aligned with grid planes, and a bumpy closed blob.
+std::vector<TriangleMesh> testMeshes() {
+    std::vector<TriangleMesh> meshes;
+    meshes.push_back(icosphere(3));
+    TriangleMesh ellipsoid = icosphere(3);
+    for (Vec3& p : ellipsoid.positions) p = mul(p, Vec3{2.0f, 0.3f, 1.0f});
+    ellipsoid.name = "ellipsoid";
+    meshes.push_back(ellipsoid);
+    TriangleMesh plate;
+    plate.name = "plate";
+    const int n = 12;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) plate.positions.push_back({float(i) / n, 0.25f, float(j) / n});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = uint32_t(j * (n + 1) + i);
+            plate.triangles.push_back({a, a + n + 1, a + 1});
+            plate.triangles.push_back({a + 1, a + n + 1, a + n + 2});
+        }
+    meshes.push_back(plate);
+    TriangleMesh blob = icosphere(3);
+    const test::SmoothDeformation bump(7, 2.0f, 0.3f);
+    for (Vec3& p : blob.positions) p = bump(p);
+    blob.name = "blob";
+    meshes.push_back(blob);
+    return meshes;
+}
+
+float objectSize(const TriangleMesh& m) {
+    return maxComponent(bounds(m).extent());
+}
+
+} // namespace
+
+TEST(TriangleBox, KnownAnswers) {
+    const Vec3 lo{0, 0, 0}, hi{1, 1, 1};
+    // Inside, crossing, touching a face, just outside, and a big triangle whose corners are
+    // all outside but whose interior cuts the box.
+    EXPECT_TRUE(detail::triangleOverlapsBox({0.2f, 0.2f, 0.2f}, {0.8f, 0.2f, 0.2f},
+                                            {0.2f, 0.8f, 0.2f}, lo, hi));
+    EXPECT_TRUE(
+        detail::triangleOverlapsBox({-1, 0.5f, 0.5f}, {2, 0.5f, 0.5f}, {0.5f, 2, 0.5f}, lo, hi));
+    EXPECT_TRUE(detail::triangleOverlapsBox({1, 0, 0}, {1, 1, 0}, {1, 0, 1}, lo, hi));
+    EXPECT_FALSE(
+        detail::triangleOverlapsBox({1.001f, 0, 0}, {1.001f, 1, 0}, {1.001f, 0, 1}, lo, hi));
+    EXPECT_TRUE(
+        detail::triangleOverlapsBox({-5, -5, 0.5f}, {10, -5, 0.5f}, {-5, 10, 0.5f}, lo, hi));
+    // Separated only by an edge-cross-axis: near the box's edge, diagonal.
+    EXPECT_FALSE(detail::triangleOverlapsBox({1.5f, -0.2f, 0}, {1.5f, -0.2f, 1}, {2.2f, 0.5f, 0.5f},
+                                             lo, hi));
+    EXPECT_FALSE(detail::triangleOverlapsBox({1.3f, 0, 0.5f}, {2, 0, 0.5f},
+                                             {1.3f, -0.3f + 1.6f, 0.5f}, lo, hi));
+}
+
+TEST(TriangleBox, AgreesWithDenseSampling) {
+    // Random triangles near a unit box: whenever a sample point of the triangle lies in the box
+    // the SAT test must say overlap (the SAT test is exact, sampling is one-sided).
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-0.8f, 1.8f);
+    int overlaps = 0, sampledHits = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+        const bool sat = detail::triangleOverlapsBox(a, b, c, {0, 0, 0}, {1, 1, 1});
+        bool hit = false;
+        for (int i = 0; i <= 30 && !hit; ++i)
+            for (int j = 0; i + j <= 30 && !hit; ++j) {
+                const float s = float(i) / 30, t = float(j) / 30;
+                const Vec3 p = a + (b - a) * s + (c - a) * t;
+                hit = Aabb{{0, 0, 0}, {1, 1, 1}}.contains(p);
+            }
+        if (hit) {
+            ++sampledHits;
+            EXPECT_TRUE(sat) << "trial " << trial;
+        }
+        overlaps += sat;
+        // Clipping agrees with the overlap test: a non-empty clip only for overlapping ones.
+        Aabb clip;
+        if (detail::addClippedTriangle(a, b, c, {0, 0, 0}, {1, 1, 1}, clip)) {
+            EXPECT_TRUE(detail::triangleOverlapsBox(a, b, c, {0, 0, 0}, {1, 1, 1}, 1e-5f));
+            EXPECT_TRUE(
+                Aabb({{-1e-5f, -1e-5f, -1e-5f}, {1.00001f, 1.00001f, 1.00001f}}).contains(clip.lo));
+            EXPECT_TRUE(
+                Aabb({{-1e-5f, -1e-5f, -1e-5f}, {1.00001f, 1.00001f, 1.00001f}}).contains(clip.hi));
+        }
+    }
+    EXPECT_GT(sampledHits, 300);
+    EXPECT_GE(overlaps, sampledHits);
+}
+
+TEST(Lattice, UndeformedLatticeReproducesEveryVertex) {
+    for (const TriangleMesh& mesh : testMeshes()) {
+        for (float resolution : {1.0f, 3.0f, 4.5f, 9.0f, 17.5f}) {
+            LatticeSettings s;
+            s.resolution = resolution;
+            const Lattice L = buildLattice(mesh, s);
+            std::vector<Vec3> out(mesh.vertexCount());
+            deformVertices(L, L.restParticles, out);
+            const float tol = 1e-6f * objectSize(mesh);
+            for (size_t v = 0; v < out.size(); ++v)
+                ASSERT_LE(length(out[v] - mesh.positions[v]), tol)
+                    << mesh.name << " resolution " << resolution << " vertex " << v;
+        }
+    }
+}
+
+TEST(Lattice, AffineMapOfParticlesMapsVerticesAndNodesAlike) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (const TriangleMesh& mesh : testMeshes()) {
+        const Lattice L = buildLattice(mesh);
+        std::vector<Vec3> restNodes(L.nodeCount());
+        updateBoxNodes(L, L.restParticles, restNodes);
+        for (int trial = 0; trial < 5; ++trial) {
+            Mat3 A = Mat3::identity();
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) A.m[i][j] += 0.5f * u(rng);
+            const Vec3 b{u(rng), u(rng), u(rng)};
+            std::vector<Vec3> particles(L.particleCount());
+            for (size_t p = 0; p < particles.size(); ++p) particles[p] = A * L.restParticles[p] + b;
+            std::vector<Vec3> vertices(mesh.vertexCount()), nodes(L.nodeCount());
+            deformVertices(L, particles, vertices);
+            updateBoxNodes(L, particles, nodes);
+            const float tol = 1e-5f * objectSize(mesh);
+            for (size_t v = 0; v < vertices.size(); ++v)
+                ASSERT_LE(length(vertices[v] - (A * mesh.positions[v] + b)), tol)
+                    << mesh.name << " v" << v;
+            for (size_t n = 0; n < nodes.size(); ++n)
+                ASSERT_LE(length(nodes[n] - (A * restNodes[n] + b)), tol)
+                    << mesh.name << " node " << n;
+        }
+    }
+}
+
+TEST(Lattice, NodesAreTheTrilinearBlendOfTheirLocalCoordinates) {
+    const TriangleMesh mesh = testMeshes()[3];
+    const Lattice L = buildLattice(mesh);
+    std::vector<Vec3> particles(L.particleCount());
+    const test::SmoothDeformation warp(5, objectSize(mesh), 0.3f);
+    for (size_t p = 0; p < particles.size(); ++p) particles[p] = warp(L.restParticles[p]);
+    std::vector<Vec3> nodes(L.nodeCount());
+    updateBoxNodes(L, particles, nodes);
+    for (size_t b = 0; b < L.boxes.size(); ++b)
+        for (int n = 0; n < 8; ++n) {
+            const Vec3 expected =
+                evaluate(L, particles, {L.boxes[b].cell, L.boxes[b].nodeLocal(n)});
+            ASSERT_LE(length(nodes[b * 8 + n] - expected), 1e-5f);
+        }
+}
+
+TEST(Lattice, EveryVertexLiesInItsCellBoxAndStaysInTheDeformedHull) {
+    for (const TriangleMesh& mesh : testMeshes()) {
+        const Lattice L = buildLattice(mesh);
+        for (size_t v = 0; v < L.vertices.size(); ++v) {
+            const Embedding& e = L.vertices[v];
+            ASSERT_NE(L.cellBox[e.cell], UINT32_MAX) << "vertex " << v << " in a cell with no box";
+            const CellBox& box = L.boxes[L.cellBox[e.cell]];
+            ASSERT_TRUE(Aabb({box.lo, box.hi}).contains(e.local)) << mesh.name << " vertex " << v;
+            // In world units the rest box contains the vertex too.
+            const Vec3 cmin = L.cellMin(e.cell);
+            ASSERT_TRUE(Aabb({cmin + box.lo * L.cellSize, cmin + box.hi * L.cellSize})
+                            .contains(mesh.positions[v], 1e-6f));
+        }
+        for (uint32_t seed = 1; seed <= 4; ++seed) {
+            const test::SmoothDeformation warp(seed, objectSize(mesh), 0.4f);
+            std::vector<Vec3> particles(L.particleCount());
+            for (size_t p = 0; p < particles.size(); ++p) particles[p] = warp(L.restParticles[p]);
+            std::vector<Vec3> vertices(mesh.vertexCount()), nodes(L.nodeCount());
+            deformVertices(L, particles, vertices);
+            updateBoxNodes(L, particles, nodes);
+            const float tol = 1e-5f * objectSize(mesh);
+            for (size_t v = 0; v < vertices.size(); ++v) {
+                const uint32_t b = L.cellBox[L.vertices[v].cell];
+                ASSERT_TRUE(test::insideConvexHull(&nodes[b * 8], vertices[v], tol))
+                    << mesh.name << " seed " << seed << " vertex " << v;
+            }
+        }
+    }
+}
+
+TEST(Lattice, ParticlesAreSharedCellCornersAtTheirGridPoints) {
+    const Lattice L = buildLattice(icosphere(3));
+    // Each particle is the corner of at least one cell, at origin + h * coord.
+    std::vector<int> uses(L.particleCount(), 0);
+    for (size_t c = 0; c < L.cellCount(); ++c)
+        for (int corner = 0; corner < 8; ++corner) {
+            const uint32_t p = L.cellParticles[c][corner];
+            ASSERT_LT(p, L.particleCount());
+            ++uses[p];
+            const GridCoord expected{L.cells[c][0] + (corner & 1),
+                                     L.cells[c][1] + ((corner >> 1) & 1),
+                                     L.cells[c][2] + ((corner >> 2) & 1)};
+            EXPECT_EQ(L.particleCoords[p], expected);
+        }
+    for (int u : uses) EXPECT_GE(u, 1);
+    // Sharing: far fewer particles than 8 per cell.
+    EXPECT_LT(L.particleCount(), 4 * L.cellCount());
+    for (size_t p = 0; p < L.particleCount(); ++p) {
+        const GridCoord& g = L.particleCoords[p];
+        EXPECT_LE(length(L.restParticles[p] -
+                         (L.origin + Vec3{float(g[0]), float(g[1]), float(g[2])} * L.cellSize)),
+                  1e-6f);
+    }
+}
+
+TEST(Lattice, InteriorFillOnlyAddsEnclosedCells) {
+    TriangleMesh sphere = icosphere(4);
+    LatticeSettings filled, hollow;
+    filled.resolution = hollow.resolution = 8;
+    hollow.fillInterior = false;
+    LatticeStats fs, hs;
+    const Lattice a = buildLattice(sphere, filled, &fs), b = buildLattice(sphere, hollow, &hs);
+    EXPECT_EQ(fs.surfaceCells, hs.surfaceCells);
+    EXPECT_EQ(hs.interiorCells, 0);
+    EXPECT_GT(fs.interiorCells, 0);
+    EXPECT_EQ(a.cellCount(), b.cellCount() + size_t(fs.interiorCells));
+    // Interior cells are enclosed: their centres are inside the unit sphere.
+    for (size_t c = 0; c < a.cellCount(); ++c)
+        if (!a.cellIsSurface[c]) {
+            EXPECT_LT(length(a.cellMin(uint32_t(c)) + Vec3{0.5f, 0.5f, 0.5f} * a.cellSize), 1.0f);
+        }
+    // An open plate encloses nothing.
+    LatticeStats ps;
+    buildLattice(testMeshes()[2], filled, &ps);
+    EXPECT_EQ(ps.interiorCells, 0);
+}
+
+TEST(Lattice, SurfaceCellsAreExactlyTheCellsTrianglesTouch) {
+    // Brute force: a cell is a surface cell iff some triangle overlaps it.
+    const TriangleMesh mesh = testMeshes()[1];
+    LatticeSettings s;
+    s.resolution = 6;
+    s.fillInterior = false;
+    const Lattice L = buildLattice(mesh, s);
+    for (int k = 0; k < L.dims[2]; ++k)
+        for (int j = 0; j < L.dims[1]; ++j)
+            for (int i = 0; i < L.dims[0]; ++i) {
+                const Vec3 lo = L.origin + Vec3{float(i), float(j), float(k)} * L.cellSize;
+                const Vec3 hi = lo + Vec3{1, 1, 1} * L.cellSize;
+                bool touched = false;
+                for (const auto& t : mesh.triangles)
+                    touched = touched || detail::triangleOverlapsBox(mesh.positions[t[0]],
+                                                                     mesh.positions[t[1]],
+                                                                     mesh.positions[t[2]], lo, hi);
+                EXPECT_EQ(L.findCell({i, j, k}) != UINT32_MAX, touched)
+                    << i << "," << j << "," << k;
+            }
+}
+
+TEST(Lattice, OutsideFaceMasksOfATwoCellLattice) {
+    // A flat quad inside a 2x1x1 block of cells: cell 0 (x in [0,1]) and cell 1 (x in [1,2]).
+    TriangleMesh bar;
+    bar.positions = {{0.1f, 0.5f, 0.1f}, {1.9f, 0.5f, 0.1f}, {1.9f, 0.5f, 0.9f},
+                     {0.1f, 0.5f, 0.9f}, {0.1f, 0.1f, 0.5f}, {1.9f, 0.9f, 0.5f}};
+    bar.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 0}};
+    LatticeSettings s;
+    s.cellSize = 1.0f;
+    const Lattice L = buildLattice(bar, s);
+    ASSERT_EQ(L.dims, (GridCoord{2, 1, 1}));
+    ASSERT_EQ(L.cellCount(), 2u);
+    ASSERT_EQ(L.boxes.size(), 2u);
+    EXPECT_EQ(L.particleCount(), 12u);
+    const uint8_t all = kFaceMinX | kFaceMaxX | kFaceMinY | kFaceMaxY | kFaceMinZ | kFaceMaxZ;
+    EXPECT_EQ(L.boxes[0].outsideFaces, all & ~kFaceMaxX); // +x neighbour is cell 1
+    EXPECT_EQ(L.boxes[1].outsideFaces, all & ~kFaceMinX);
+}
+
+TEST(Lattice, CellBoxesBoundTheClippedSurface) {
+    // A single triangle spanning several cells: each box must cover the triangle's part in its
+    // cell (checked by dense sampling) and stay inside the cell grown by the skin.
+    TriangleMesh tri;
+    tri.positions = {{0.05f, 0.1f, 0.2f}, {2.9f, 0.4f, 0.3f}, {0.3f, 2.7f, 0.9f}};
+    tri.triangles = {{0, 1, 2}};
+    LatticeSettings s;
+    s.cellSize = 1.0f;
+    const Lattice L = buildLattice(tri, s);
+    for (int i = 0; i <= 60; ++i)
+        for (int j = 0; i + j <= 60; ++j) {
+            const Vec3 p = tri.positions[0] +
+                           (tri.positions[1] - tri.positions[0]) * (float(i) / 60) +
+                           (tri.positions[2] - tri.positions[0]) * (float(j) / 60);
+            const Embedding e = embedPoint(L, p);
+            const uint32_t b = L.cellBox[e.cell];
+            ASSERT_NE(b, UINT32_MAX);
+            EXPECT_TRUE(Aabb({L.boxes[b].lo, L.boxes[b].hi}).contains(e.local, 1e-5f));
+        }
+    for (const CellBox& box : L.boxes) {
+        const float skin = s.boxSkin + 1e-6f;
+        EXPECT_TRUE(Aabb({{-skin, -skin, -skin}, {1 + skin, 1 + skin, 1 + skin}}).contains(box.lo));
+        EXPECT_TRUE(Aabb({{-skin, -skin, -skin}, {1 + skin, 1 + skin, 1 + skin}}).contains(box.hi));
+    }
+}
+
+TEST(Lattice, TargetCellCountIsFound) {
+    const TriangleMesh sphere = icosphere(2);
+    for (int target : {8, 38, 100, 400}) {
+        LatticeSettings s;
+        s.targetCells = target;
+        const Lattice L = buildLattice(sphere, s);
+        EXPECT_NEAR(double(L.cellCount()), double(target), 0.2 * target) << "target " << target;
+        EXPECT_EQ(countCells(sphere, L.cellSize, true), int(L.cellCount()));
+    }
+}
+
+TEST(Lattice, IsDeterministic) {
+    const TriangleMesh mesh = testMeshes()[3];
+    const Lattice a = buildLattice(mesh), b = buildLattice(mesh);
+    ASSERT_EQ(a.cellCount(), b.cellCount());
+    EXPECT_EQ(a.cells, b.cells);
+    EXPECT_EQ(a.restParticles.size(), b.restParticles.size());
+    for (size_t i = 0; i < a.boxes.size(); ++i) {
+        EXPECT_EQ(a.boxes[i].lo, b.boxes[i].lo);
+        EXPECT_EQ(a.boxes[i].hi, b.boxes[i].hi);
+    }
+}
+
+TEST(Lattice, BadSettingsAreRejectedWithTheFieldName) {
+    const TriangleMesh sphere = icosphere(1);
+    auto expectField = [&](LatticeSettings s, const std::string& field) {
+        try {
+            buildLattice(sphere, s);
+            FAIL() << "expected an error for " << field;
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.source(), field) << e.what();
+        }
+    };
+    LatticeSettings s;
+    s.cellSize = -1;
+    expectField(s, "lattice.cellSize");
+    s = {};
+    s.cellSize = std::numeric_limits<float>::quiet_NaN();
+    expectField(s, "lattice.cellSize");
+    s = {};
+    s.cellSize = 1e-6f; // a grid of 2e6^3 cells
+    expectField(s, "lattice.cellSize");
+    s = {};
+    s.resolution = -1;
+    expectField(s, "lattice.resolution");
+    s = {};
+    s.boxSkin = 2;
+    expectField(s, "lattice.boxSkin");
+    s = {};
+    s.targetCells = -5;
+    expectField(s, "lattice.targetCells");
+}
+
+TEST(Lattice, ASingleCellLattice) {
+    LatticeSettings s;
+    s.cellSize = 10.0f;
+    const Lattice L = buildLattice(icosphere(2), s);
+    EXPECT_EQ(L.cellCount(), 1u);
+    EXPECT_EQ(L.particleCount(), 8u);
+    EXPECT_EQ(L.boxes.size(), 1u);
+    EXPECT_EQ(L.boxes[0].outsideFaces, 63);
+}
