@@ -1,0 +1,204 @@
+// The simulation world: deformable bodies (meshes embedded in FFD lattices), their lattice
+// dynamics, a floor, and collisions through the Enhanced FFD-AABB pipeline.
+//
+//   ffd::World world;                                  // default settings: 1/60 s frames
+//   ffd::BodySettings s;  s.position = {0, 2, 0};
+//   ffd::BodyId ball = world.addBody(ffd::icosphere(2), s);
+//   for (int i = 0; i < 60; ++i) world.step();         // one frame per call
+//   std::span<const ffd::Vec3> v = world.vertices(ball); // deformed mesh, no copy
+//
+// A World is not thread-safe for concurrent calls; step() itself may use worker threads
+// (WorldSettings::threads) and gives bit-identical results for any thread count.
+#pragma once
+
+#include "ffdaabb/lattice.h"
+#include "ffdaabb/math.h"
+#include "ffdaabb/mesh.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace ffd {
+
+/// Which collision pipeline runs between objects (the floor is handled in every mode).
+enum class CollisionMode : uint8_t {
+    Enhanced, ///< bounding spheres -> spatial hash -> node vs planes (Jeon, Choi, Hong 2012)
+    Previous, ///< spatial hash -> node vs planes (Jung, Hong, Choi 2011, the paper's baseline)
+    Brute,    ///< every node against every box of every other object (a test oracle)
+    None,     ///< objects pass through each other
+};
+
+/// The lattice dynamics of a body.
+enum class DynamicsModel : uint8_t {
+    ShapeMatching, ///< lattice shape matching (FastLSM)
+    MassSpring,    ///< springs along lattice edges and diagonals (XPBD)
+};
+
+const char* toString(CollisionMode mode);
+const char* toString(DynamicsModel model);
+/// Parses "enhanced", "previous", "brute", "none"; returns false for anything else.
+bool parseCollisionMode(std::string_view text, CollisionMode& out);
+bool parseDynamicsModel(std::string_view text, DynamicsModel& out);
+
+/// A handle to a body: slot index + generation, so a handle to a removed body is detected.
+struct BodyId {
+    uint32_t index = UINT32_MAX;
+    uint32_t generation = 0;
+
+    bool isNull() const { return index == UINT32_MAX; }
+    friend bool operator==(const BodyId&, const BodyId&) = default;
+};
+
+/// How a body is made and what it is made of. The lattice, the dynamics model and the region
+/// half-width decide the shared (immutable) part; everything else is per body.
+struct BodySettings {
+    LatticeSettings lattice;
+    DynamicsModel model = DynamicsModel::ShapeMatching;
+    int regionHalfWidth = 1;      ///< shape matching region half-width w, 1..4 (larger = stiffer)
+    float stiffness = 1.0f;       ///< shape matching alpha, (0, 1]
+    float youngsModulus = 2e5f;   ///< mass-spring: Pa, springs get k = E * rest length
+    int springIterations = 4;     ///< mass-spring: XPBD iterations per substep
+    float density = 1000.0f;      ///< kg/m^3, used when mass is 0
+    float mass = 0.0f;            ///< kg; 0 = density * volume (mesh volume, or lattice volume)
+    float damping = 10.0f;        ///< 1/s, rate at which non-rigid motion is removed
+    float friction = 0.5f;        ///< Coulomb coefficient
+    float restitution = 0.0f;     ///< normal restitution, [0, 1]
+    Vec3 position;                ///< the mesh's origin is placed here
+    Quat rotation;                ///< and the mesh rotated about it
+    Vec3 velocity;                ///< initial linear velocity, m/s
+    Vec3 angularVelocity;         ///< initial angular velocity about `position`, rad/s
+};
+
+/// World-wide settings.
+struct WorldSettings {
+    float frameStep = 1.0f / 60.0f; ///< seconds of simulated time per step() call
+    int substeps = 2;               ///< dynamics + collision passes per frame
+    Vec3 gravity{0.0f, -9.81f, 0.0f};
+    bool floor = true;              ///< an infinite plane y = floorHeight, normal +y
+    float floorHeight = 0.0f;
+    CollisionMode mode = CollisionMode::Enhanced;
+    float contactSkin = 0.05f;      ///< contact margin as a fraction of the cell size
+    int solverIterations = 4;       ///< Gauss-Seidel iterations over contacts per substep
+    int threads = 1;                ///< worker threads for per-body stages (0 = all cores)
+    bool meshUpdate = true;         ///< update embedded mesh vertices at the end of each frame
+    int sweepThreshold = 64;        ///< bodies above which sphere pairs use sort-and-sweep
+};
+
+/// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of
+/// the last frame. The stage names match the CLI's JSON keys and the benchmark tables.
+struct Profile {
+    double dynamics = 0;        ///< shape matching / springs, forces, integration
+    double nodeUpdate = 0;      ///< FFD-AABB nodes from particles, per-object min/max
+    double sphereTest = 0;      ///< bounding spheres and their pair test (enhanced only)
+    double floor = 0;           ///< floor contacts
+    double objectCollision = 0; ///< spatial hash + node vs planes + contact solve
+    double meshUpdate = 0;      ///< embedded mesh vertices
+    double total = 0;
+
+    int candidatePairs = 0;     ///< object pairs passed to the spatial hash (last substep)
+    int potentialPairs = 0;     ///< node/box pairs tested in the narrow phase (last substep)
+    int contacts = 0;           ///< object contacts (last substep)
+    int floorContacts = 0;      ///< floor contacts (last substep)
+    float maxPenetration = 0;   ///< deepest contact violation left after the response (a node
+                                ///< inside another object or below the floor), metres, over
+                                ///< the frame's substeps
+};
+
+/// Rest-pose statistics of a body's shared model.
+struct BodyInfo {
+    size_t vertices = 0, triangles = 0, cells = 0, surfaceCells = 0, particles = 0;
+    float cellSize = 0;
+    float mass = 0;
+};
+
+namespace detail {
+struct WorldData;
+}
+
+class World {
+public:
+    explicit World(const WorldSettings& settings = {});
+    ~World();
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+    World(const World&) = delete;
+    World& operator=(const World&) = delete;
+
+    /// Adds a body made from `mesh` (validated; InputError on a bad mesh or setting). Bodies
+    /// made from an identical mesh with identical lattice/model settings share one lattice,
+    /// embedding and region set. Spans obtained before are invalidated.
+    BodyId addBody(const TriangleMesh& mesh, const BodySettings& settings = {});
+    /// Removes a body; false for a stale or null handle. Spans obtained before are invalidated.
+    bool removeBody(BodyId body);
+    bool isValid(BodyId body) const;
+    size_t bodyCount() const;
+    /// Handles of all bodies in the order they were added.
+    std::vector<BodyId> bodies() const;
+
+    /// Advances one frame (settings().frameStep) in settings().substeps substeps.
+    void step();
+
+    /// Deformed mesh vertices (#V, metres), as of the end of the last step (or the initial pose).
+    std::span<const Vec3> vertices(BodyId body) const;
+    /// Triangles of the body's mesh (#T), shared with every body of the same model.
+    std::span<const std::array<uint32_t, 3>> triangles(BodyId body) const;
+    /// Lattice particle positions and velocities (#P).
+    std::span<const Vec3> particles(BodyId body) const;
+    std::span<const Vec3> velocities(BodyId body) const;
+    /// FFD-AABB boundary nodes (#B * 8) as of the last node update.
+    std::span<const Vec3> boxNodes(BodyId body) const;
+    /// The body's lattice (rest pose, cell boxes, embedding).
+    const Lattice& lattice(BodyId body) const;
+    /// Bounds of the body's box nodes (contain the whole deformed mesh).
+    Aabb bounds(BodyId body) const;
+    /// Bounding sphere of the last sphere test (enhanced mode), centre and radius.
+    void boundingSphere(BodyId body, Vec3& outCentre, float& outRadius) const;
+    /// Mass-weighted centre and linear velocity of the body's particles.
+    Vec3 centreOfMass(BodyId body) const;
+    Vec3 linearVelocity(BodyId body) const;
+    BodyInfo info(BodyId body) const;
+    const BodySettings& settings(BodyId body) const;
+
+    /// A force applied during the next step() (uniform acceleration force/mass), newtons.
+    void applyForce(BodyId body, Vec3 force);
+    /// An instantaneous change of momentum, spread over the particles by mass, N s.
+    void applyImpulse(BodyId body, Vec3 impulse);
+    /// A force on one particle during the next step() (for picking and dragging), newtons.
+    void applyParticleForce(BodyId body, uint32_t particle, Vec3 force);
+    /// Moves every particle by `offset` and sets a uniform velocity (teleport).
+    void translate(BodyId body, Vec3 offset);
+    void setVelocity(BodyId body, Vec3 velocity);
+    /// Overwrites particle positions (and zeroes velocities when `resetVelocity`); #P entries.
+    void setParticles(BodyId body, std::span<const Vec3> positions, bool resetVelocity = true);
+    /// Recomputes vertices (and nodes) now, e.g. after setParticles or with meshUpdate off.
+    void updateMesh(BodyId body);
+
+    const WorldSettings& settings() const;
+    /// Changes settings; takes effect at the next step(). InputError on invalid values.
+    void setSettings(const WorldSettings& settings);
+    void setMode(CollisionMode mode);
+
+    const Profile& profile() const;
+    /// Frames stepped so far.
+    uint64_t frame() const;
+    /// FNV-1a hash of every body's particle positions and velocities, in body order.
+    uint64_t stateHash() const;
+    /// Total kinetic energy (J) of all particles.
+    double kineticEnergy() const;
+
+    detail::WorldData& data() { return *data_; }
+    const detail::WorldData& data() const { return *data_; }
+
+private:
+    std::unique_ptr<detail::WorldData> data_;
+};
+
+/// Throws InputError (naming the field) when a setting is out of range.
+void validate(const WorldSettings& settings);
+void validate(const BodySettings& settings);
+
+} // namespace ffd

@@ -1,0 +1,46 @@
+// Phase 3 of the Enhanced FFD-AABB pipeline: a boundary node against the six face planes of
+// another object's deformed cell box (Jung, Hong, Choi 2011; Jeon, Choi, Hong 2012).
+//
+// A deformed box's faces are bilinear patches; each is approximated by the plane through its
+// four nodes' centroid with normal (q2 - q0) x (q3 - q1), oriented away from the box centre.
+// A node is inside when it lies within the box's node bounds grown by the skin and its signed
+// distance to all six planes is below the skin. The contact normal is that of the outside face
+// (neighbouring lattice cell empty) with the largest signed distance: the nearest way out that
+// leads out of the object, not into its neighbouring cell; all faces count when none is outside.
+// Pure functions: no world needed, so they are tested on their own.
+#pragma once
+
+#include "ffdaabb/lattice.h"
+#include "ffdaabb/math.h"
+
+namespace ffd::detail {
+
+/// Node indices (n = i + 2j + 4k) of each face in cyclic order, faces -x,+x,-y,+y,-z,+z.
+inline constexpr int kFaceNodes[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                         {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+
+/// The six face planes of a deformed box: signed distance of p to face f is
+/// dot(normal[f], p) - offset[f], positive outside.
+struct BoxPlanes {
+    Vec3 normal[6];
+    float offset[6];
+};
+
+BoxPlanes boxPlanes(const Vec3 nodes[8]);
+
+/// Result of a node/box test.
+struct NodeBoxHit {
+    bool inside = false;
+    int face = -1;       ///< face whose plane gives the contact normal
+    float distance = 0;  ///< signed distance to that face (negative = penetrating)
+};
+
+/// Tests node p against the box (its 8 nodes, their AABB and its outside-face mask).
+NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
+                         Vec3 p, float skin);
+
+/// Local coordinates (s,t,u) of p in the trilinear map of 8 corner positions (corner
+/// i + 2j + 4k), by Newton's method from `guess`; returns the best iterate.
+Vec3 invertTrilinear(const Vec3 corners[8], Vec3 p, Vec3 guess, int iterations = 6);
+
+} // namespace ffd::detail

@@ -1,0 +1,325 @@
+// Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
+// 2012; Jung, Hong, Choi, "Collision Handling for Free-Form Deformation Embedded Surface", IET
+// Image Processing 5(4), 2011; Teschner et al., VMV 2003 (spatial hashing).
+#include "collision/pipeline.h"
+
+#include "world/world_data.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ffd::detail {
+
+namespace {
+
+float skinOf(const WorldData& w, const BodyRecord& b) { return w.settings.contactSkin * b.cellSize; }
+
+float combineFriction(const BodyRecord& a, const BodyRecord& b) {
+    return std::sqrt(a.settings.friction * b.settings.friction);
+}
+
+// The contact for node `node` of body A found inside box `box` of body B.
+Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, uint32_t bodyB,
+                          uint32_t box, const NodeBoxHit& hit, const BoxPlanes& planes) {
+    const BodyRecord& A = w.bodies[bodyA];
+    const BodyRecord& B = w.bodies[bodyB];
+    const Lattice& LA = A.model->lattice;
+    const Lattice& LB = B.model->lattice;
+    Contact c;
+    c.bodyA = bodyA;
+    c.bodyB = bodyB;
+    c.nodeA = node;
+    c.boxB = box;
+    c.hasB = true;
+    c.normal = planes.normal[hit.face];
+    c.depth = std::fmax(0.0f, -hit.distance);
+    c.friction = combineFriction(A, B);
+    c.restitution = std::fmax(A.settings.restitution, B.settings.restitution);
+
+    const CellBox& boxA = LA.boxes[node / 8 - A.firstBox];
+    makeContactPoint(LA.cellParticles[boxA.cell].data(), A.firstParticle,
+                     boxA.nodeLocal(int(node % 8)), w.invMass, c.a, c.invMassA);
+
+    // B's point: the node projected onto the face plane, located in B's cell by inverting
+    // its trilinear map, kept within the box.
+    const CellBox& boxB = LB.boxes[box - B.firstBox];
+    const auto& cornersB = LB.cellParticles[boxB.cell];
+    Vec3 corners[8];
+    for (int k = 0; k < 8; ++k) corners[k] = w.x[B.firstParticle + cornersB[k]];
+    const Vec3 p = w.nodes[node];
+    const Vec3 q = p - c.normal * hit.distance;
+    Vec3 local = invertTrilinear(corners, q, (boxB.lo + boxB.hi) * 0.5f);
+    if (!isFinite(local)) local = (boxB.lo + boxB.hi) * 0.5f;
+    local = max(boxB.lo, min(local, boxB.hi));
+    makeContactPoint(cornersB.data(), B.firstParticle, local, w.invMass, c.b, c.invMassB);
+    return c;
+}
+
+void sortContacts(std::vector<Contact>& contacts) {
+    std::sort(contacts.begin(), contacts.end(),
+              [](const Contact& a, const Contact& b) { return contactKey(a) < contactKey(b); });
+}
+
+bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
+    const BodyRecord& a = w.bodies[i];
+    const BodyRecord& b = w.bodies[j];
+    // The narrow phase accepts nodes up to one skin outside a box's node bounds: allow twice
+    // the larger skin (more than sqrt(3) skins) so the test stays conservative.
+    const float margin = 2.0f * std::fmax(skinOf(w, a), skinOf(w, b));
+    const float r = a.sphereRadius + b.sphereRadius + margin;
+    return lengthSquared(a.sphereCentre - b.sphereCentre) < r * r;
+}
+
+} // namespace
+
+void rebuildCollisionTopology(WorldData& w) {
+    CollisionState& s = w.collision;
+    const size_t boxes = w.boxBounds.size();
+    s.boxBody.resize(boxes);
+    s.nodeBody.resize(boxes * 8);
+    s.planes.resize(boxes);
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
+        const BodyRecord& r = w.bodies[b];
+        for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
+            s.boxBody[k] = b;
+            for (int n = 0; n < 8; ++n) s.nodeBody[size_t(k) * 8 + n] = b;
+        }
+    }
+    s.isCandidate.assign(w.bodies.size(), 0);
+}
+
+void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
+    for (size_t b = firstBody; b < lastBody; ++b) {
+        BodyRecord& r = w.bodies[b];
+        const Lattice& L = r.model->lattice;
+        std::span<const Vec3> x(w.x.data() + r.firstParticle, r.particleCount);
+        std::span<Vec3> nodes(w.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
+        updateBoxNodes(L, x, nodes);
+        Aabb body;
+        for (uint32_t k = 0; k < r.boxCount; ++k) {
+            Aabb box;
+            for (int n = 0; n < 8; ++n) box.add(nodes[size_t(k) * 8 + n]);
+            w.boxBounds[r.firstBox + k] = box;
+            body.add(box);
+        }
+        r.bounds = body;
+    }
+}
+
+void sphereTestAllPairs(WorldData& w, std::vector<CandidatePair>& out) {
+    out.clear();
+    const uint32_t n = uint32_t(w.bodies.size());
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = i + 1; j < n; ++j)
+            if (spheresOverlap(w, i, j)) out.push_back({i, j});
+}
+
+void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
+    out.clear();
+    const uint32_t n = uint32_t(w.bodies.size());
+    std::vector<uint32_t>& order = w.collision.sweepOrder;
+    order.resize(n);
+    float maxMargin = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        order[i] = i;
+        maxMargin = std::fmax(maxMargin, 2.0f * skinOf(w, w.bodies[i]));
+    }
+    auto lo = [&](uint32_t i) { return w.bodies[i].sphereCentre.x - w.bodies[i].sphereRadius; };
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        const float la = lo(a), lb = lo(b);
+        return la < lb || (la == lb && a < b);
+    });
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t i = order[k];
+        const float reach = w.bodies[i].sphereCentre.x + w.bodies[i].sphereRadius + maxMargin;
+        for (uint32_t m = k + 1; m < n && lo(order[m]) <= reach; ++m) {
+            const uint32_t j = order[m];
+            if (spheresOverlap(w, i, j)) out.push_back({std::min(i, j), std::max(i, j)});
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const CandidatePair& a, const CandidatePair& b) {
+        return a.a < b.a || (a.a == b.a && a.b < b.b);
+    });
+}
+
+void sphereTest(WorldData& w) {
+    // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
+    for (BodyRecord& r : w.bodies) {
+        const Vec3 c = r.bounds.centre();
+        float r2 = 0;
+        for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
+            const Aabb& b = w.boxBounds[k];
+            const Vec3 d = max(b.hi - c, c - b.lo);
+            r2 = std::fmax(r2, lengthSquared(d));
+        }
+        r.sphereCentre = c;
+        r.sphereRadius = std::sqrt(r2);
+    }
+    CollisionState& s = w.collision;
+    if (int(w.bodies.size()) > w.settings.sweepThreshold) sphereTestSweep(w, s.pairs);
+    else sphereTestAllPairs(w, s.pairs);
+
+    // Partners of each body (CSR), for the hash phase's pair check.
+    const size_t n = w.bodies.size();
+    s.isCandidate.assign(n, 0);
+    s.partnerStart.assign(n + 1, 0);
+    for (const CandidatePair& p : s.pairs) ++s.partnerStart[p.a + 1], ++s.partnerStart[p.b + 1];
+    for (size_t i = 0; i < n; ++i) s.partnerStart[i + 1] += s.partnerStart[i];
+    s.partners.resize(s.pairs.size() * 2);
+    std::vector<uint32_t>& fill = s.sweepOrder;
+    fill.assign(s.partnerStart.begin(), s.partnerStart.end() - 1);
+    for (const CandidatePair& p : s.pairs) {
+        s.partners[fill[p.a]++] = p.b;
+        s.partners[fill[p.b]++] = p.a;
+        s.isCandidate[p.a] = s.isCandidate[p.b] = 1;
+    }
+}
+
+float floorCollision(WorldData& w, float dt) {
+    CollisionState& s = w.collision;
+    s.floorContacts.clear();
+    if (!w.settings.floor) return 0;
+    const float floorY = w.settings.floorHeight;
+    float deepest = 0;
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
+        const BodyRecord& r = w.bodies[b];
+        const float skin = skinOf(w, r);
+        if (r.bounds.lo.y >= floorY + skin) continue;
+        const Lattice& L = r.model->lattice;
+        for (uint32_t k = 0; k < r.boxCount; ++k) {
+            if (w.boxBounds[r.firstBox + k].lo.y >= floorY + skin) continue;
+            const CellBox& box = L.boxes[k];
+            for (int n = 0; n < 8; ++n) {
+                const uint32_t node = (r.firstBox + k) * 8 + uint32_t(n);
+                const float y = w.nodes[node].y;
+                if (y >= floorY + skin) continue;
+                Contact c;
+                c.bodyA = b;
+                c.nodeA = node;
+                c.normal = {0, 1, 0};
+                c.offset = floorY;
+                c.depth = std::fmax(0.0f, floorY - y);
+                c.friction = r.settings.friction;
+                c.restitution = r.settings.restitution;
+                makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
+                                 box.nodeLocal(n), w.invMass, c.a, c.invMassA);
+                s.floorContacts.push_back(c);
+            }
+        }
+    }
+    w.profile.floorContacts = int(s.floorContacts.size());
+    if (s.floorContacts.empty()) return deepest;
+    const float bounce = 2.0f * length(w.settings.gravity) * dt;
+    solveContactPositions(s.floorContacts, w.x, w.invMass, w.settings.solverIterations);
+    solveContactVelocities(s.floorContacts, w.x, w.v, w.invMass, dt, bounce,
+                           w.settings.solverIterations);
+    return residualPenetration(s.floorContacts, w.x);
+}
+
+void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& out,
+                        int& outPotential) {
+    out.clear();
+    outPotential = 0;
+    CollisionState& s = w.collision;
+    const uint32_t n = uint32_t(w.bodies.size());
+    if (mode == CollisionMode::None || n < 2) return;
+
+    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node) {
+        ++outPotential;
+        const BodyRecord& B = w.bodies[bodyB];
+        const NodeBoxHit hit =
+            testNodeInBox(s.planes[box], w.boxBounds[box],
+                          B.model->lattice.boxes[box - B.firstBox].outsideFaces, w.nodes[node],
+                          skinOf(w, B));
+        if (hit.inside) out.push_back(makeObjectContact(w, bodyA, node, bodyB, box, hit, s.planes[box]));
+    };
+    auto planesOf = [&](const BodyRecord& B) {
+        for (uint32_t k = B.firstBox; k < B.firstBox + B.boxCount; ++k)
+            s.planes[k] = boxPlanes(&w.nodes[size_t(k) * 8]);
+    };
+
+    if (mode == CollisionMode::Brute) {
+        for (uint32_t b = 0; b < n; ++b) planesOf(w.bodies[b]);
+        for (uint32_t b = 0; b < n; ++b) {
+            const BodyRecord& B = w.bodies[b];
+            for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box)
+                for (uint32_t a = 0; a < n; ++a) {
+                    if (a == b) continue;
+                    const BodyRecord& A = w.bodies[a];
+                    for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8; ++node)
+                        testBox(b, box, a, node);
+                }
+        }
+        sortContacts(out);
+        return;
+    }
+
+    // Phase 2: hash the nodes of the candidate objects (all objects for `previous`).
+    const bool enhanced = mode == CollisionMode::Enhanced;
+    if (enhanced && s.pairs.empty()) return;
+    auto isCandidate = [&](uint32_t b) { return !enhanced || s.isCandidate[b]; };
+    size_t nodeCount = 0;
+    float cell = 0;
+    for (uint32_t b = 0; b < n; ++b)
+        if (isCandidate(b)) {
+            nodeCount += size_t(w.bodies[b].boxCount) * 8;
+            cell = std::fmax(cell, w.bodies[b].cellSize);
+        }
+    if (nodeCount == 0) return;
+    s.hash.begin(nodeCount, cell);
+    for (uint32_t b = 0; b < n; ++b) {
+        if (!isCandidate(b)) continue;
+        const BodyRecord& r = w.bodies[b];
+        for (uint32_t node = r.firstBox * 8; node < (r.firstBox + r.boxCount) * 8; ++node)
+            s.hash.insert(node, w.nodes[node]);
+    }
+    // Each box of a candidate object visits the hash cells its node bounds (grown by the skin)
+    // overlap and tests the nodes of the other objects it forms a candidate pair with.
+    for (uint32_t b = 0; b < n; ++b) {
+        if (!isCandidate(b)) continue;
+        const BodyRecord& B = w.bodies[b];
+        const float skin = skinOf(w, B);
+        planesOf(B);
+        const uint32_t* partners = enhanced ? &s.partners[s.partnerStart[b]] : nullptr;
+        const uint32_t partnerCount = enhanced ? s.partnerStart[b + 1] - s.partnerStart[b] : 0;
+        auto isPartner = [&](uint32_t a) {
+            if (!enhanced) return a != b;
+            for (uint32_t k = 0; k < partnerCount; ++k)
+                if (partners[k] == a) return true;
+            return false;
+        };
+        for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
+            const Aabb& bb = w.boxBounds[box];
+            const int32_t i0 = s.hash.cell(bb.lo.x - skin), i1 = s.hash.cell(bb.hi.x + skin);
+            const int32_t j0 = s.hash.cell(bb.lo.y - skin), j1 = s.hash.cell(bb.hi.y + skin);
+            const int32_t k0 = s.hash.cell(bb.lo.z - skin), k1 = s.hash.cell(bb.hi.z + skin);
+            for (int32_t k = k0; k <= k1; ++k)
+                for (int32_t j = j0; j <= j1; ++j)
+                    for (int32_t i = i0; i <= i1; ++i)
+                        s.hash.forEachInCell(i, j, k, [&](uint32_t node) {
+                            const uint32_t a = s.nodeBody[node];
+                            if (a == b || !isPartner(a)) return;
+                            testBox(b, box, a, node);
+                        });
+        }
+    }
+    sortContacts(out);
+}
+
+float objectCollision(WorldData& w, float dt) {
+    CollisionState& s = w.collision;
+    findObjectContacts(w, w.settings.mode, s.objectContacts, w.profile.potentialPairs);
+    w.profile.contacts = int(s.objectContacts.size());
+    if (s.objectContacts.empty()) return 0;
+    // Object and floor contacts are solved together so that piles push each other out of the
+    // floor and the floor out of each other within one substep.
+    s.all.clear();
+    s.all.insert(s.all.end(), s.objectContacts.begin(), s.objectContacts.end());
+    s.all.insert(s.all.end(), s.floorContacts.begin(), s.floorContacts.end());
+    const float bounce = 2.0f * length(w.settings.gravity) * dt;
+    solveContactPositions(s.all, w.x, w.invMass, w.settings.solverIterations);
+    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, bounce, w.settings.solverIterations);
+    return residualPenetration(s.all, w.x);
+}
+
+} // namespace ffd::detail

@@ -1,0 +1,48 @@
+// The collision stages of World::step, each one function over the world's data:
+//   node_update       FFD-AABB nodes from particles, per-box and per-object min/max
+//   sphere_test       phase 1: bounding spheres and candidate object pairs (enhanced only)
+//   floor             node-vs-floor contacts and their response
+//   object_collision  phase 2 (spatial hash) + phase 3 (node vs planes) + response
+// Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
+// 2012 (Fig. 2: the three phases); Jung, Hong, Choi, IET Image Processing 5(4), 2011.
+#pragma once
+
+#include "collision/contact.h"
+#include "ffdaabb/world.h"
+
+#include <vector>
+
+namespace ffd::detail {
+
+struct WorldData;
+
+/// Rebuilds the node/box -> body lookups after bodies were added or removed.
+void rebuildCollisionTopology(WorldData& world);
+
+/// node_update for bodies [first, last): nodes, box bounds, body bounds.
+void updateNodes(WorldData& world, size_t firstBody, size_t lastBody);
+
+/// sphere_test: each body's bounding sphere (centre of its node bounds; radius reaching the
+/// farthest corner of any of its box bounds, so that the test is conservative for the narrow
+/// phase's inflated box bounds) and the candidate pairs (all pairs below
+/// settings.sweepThreshold bodies, sort-and-sweep on x above). Fills world.collision.pairs.
+void sphereTest(WorldData& world);
+
+/// Candidate pairs by brute force over all pairs (for tests of the sweep).
+void sphereTestAllPairs(WorldData& world, std::vector<CandidatePair>& out);
+void sphereTestSweep(WorldData& world, std::vector<CandidatePair>& out);
+
+/// floor: contacts of box nodes with the floor, solved at once. Returns the deepest
+/// penetration left after the response (metres).
+float floorCollision(WorldData& world, float dt);
+
+/// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
+/// with the contacts in canonical order; counts node/box pairs tested.
+void findObjectContacts(WorldData& world, CollisionMode mode, std::vector<Contact>& out,
+                        int& outPotentialPairs);
+
+/// object_collision: findObjectContacts + joint solve with the floor contacts. Returns the
+/// deepest penetration left after the response (metres).
+float objectCollision(WorldData& world, float dt);
+
+} // namespace ffd::detail

@@ -1,0 +1,289 @@
+// Reference: Rivers & James, "FastLSM: Fast Lattice Shape Matching for Robust Real-Time
+// Deformation", SIGGRAPH 2007 (regions, fast summation); Mueller et al., "Meshless Deformations
+// Based on Shape Matching", SIGGRAPH 2005 (integration); Mueller et al., "Position Based
+// Dynamics", 2006 (rigid-motion-preserving damping, here per region).
+#include "dynamics/shape_matching.h"
+
+#include "dynamics/polar.h"
+#include "ffdaabb/error.h"
+
+#include <cstring>
+
+namespace ffd::detail {
+
+namespace {
+
+// First summation: per region r, sums over its members j of
+//   m~ x (3) | m~ x x0^T (9, row-major) | m~ v (3) | m~ x cross v (3) | m~ x x^T (6: xx yy zz xy xz yz)
+constexpr int kFirstChannels = 24;
+// Second summation: per particle i, sums over the regions r containing it of
+//   R_r (9, row-major) | t_r (3) | omega_r (3) | u_r = v_cm - omega x c (3)
+constexpr int kSecondChannels = 18;
+
+// out[c][g] = sum_{d=-w..w} in[c][g + d * stride] over the range where every term exists. The
+// grid carries w zeros on each side of every axis, so interior points never read past the
+// range, and what lands on pad points is never read back by a later pass at an interior point.
+void boxFilter(const float* in, float* out, size_t points, size_t stride, int w, int channels) {
+    const size_t reach = size_t(w) * stride;
+    if (points <= 2 * reach) return;
+    const size_t lo = reach, hi = points - reach;
+    for (int c = 0; c < channels; ++c) {
+        const float* src = in + size_t(c) * points;
+        float* dst = out + size_t(c) * points;
+        for (size_t g = lo; g < hi; ++g) dst[g] = src[g - reach];
+        for (int d = -w + 1; d <= w; ++d) {
+            const float* s = src + ptrdiff_t(d) * ptrdiff_t(stride);
+            for (size_t g = lo; g < hi; ++g) dst[g] += s[g];
+        }
+    }
+}
+
+// Separable (2w+1)^3 box sum of `channels` grids: scatter in a, result in b.
+void cubeSum(const ShapeMatchingModel& model, std::vector<float>& a, std::vector<float>& b,
+             int channels) {
+    const size_t points = model.paddedPointCount();
+    const size_t px = size_t(model.paddedDims[0]), pxy = px * size_t(model.paddedDims[1]);
+    boxFilter(a.data(), b.data(), points, 1, model.halfWidth, channels);
+    boxFilter(b.data(), a.data(), points, px, model.halfWidth, channels);
+    boxFilter(a.data(), b.data(), points, pxy, model.halfWidth, channels);
+}
+
+// Region values from the first sums: rotation, translation and rigid velocity.
+struct RegionFrame {
+    Mat3 R;
+    Vec3 t;     // c_r - R_r c0_r
+    Vec3 omega; // angular velocity of the region's rigid motion
+    Vec3 u;     // v_cm - omega x c_r
+};
+
+RegionFrame regionFrame(const ShapeMatchingModel& model, uint32_t r, const float* S, Quat& q,
+                        int iterations, bool wantVelocity) {
+    const float M = model.regionMass[r];
+    const float invM = 1.0f / M;
+    const Vec3 c{S[0] * invM, S[1] * invM, S[2] * invM};
+    const Vec3 c0 = model.regionRestCentre[r];
+    Mat3 A;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) A.m[i][j] = S[3 + 3 * i + j] - M * c[i] * c0[j];
+    extractRotation(A, q, iterations);
+    RegionFrame f;
+    f.R = toMat3(q);
+    f.t = c - f.R * c0;
+    if (!wantVelocity) return f;
+    const Vec3 vcm{S[12] * invM, S[13] * invM, S[14] * invM};
+    const Vec3 L = Vec3{S[15], S[16], S[17]} - cross(c, vcm) * M;
+    // Inertia about c: sum m~ (|r|^2 I - r r^T) with r = x - c.
+    const float xx = S[18] - M * c.x * c.x, yy = S[19] - M * c.y * c.y, zz = S[20] - M * c.z * c.z;
+    const float xy = S[21] - M * c.x * c.y, xz = S[22] - M * c.x * c.z, yz = S[23] - M * c.y * c.z;
+    const float trace = xx + yy + zz;
+    // A region that is flat or a line has a singular inertia; a small isotropic term keeps
+    // the solve well posed and only damps the (ill-defined) spin about the degenerate axis.
+    const float reg = 1e-4f * trace + 1e-30f;
+    const Mat3 I{{{trace - xx + reg, -xy, -xz}, {-xy, trace - yy + reg, -yz}, {-xz, -yz, trace - zz + reg}}};
+    Mat3 Iinv;
+    f.omega = inverse(I, Iinv) ? Iinv * L : Vec3{};
+    f.u = vcm - cross(f.omega, c);
+    return f;
+}
+
+void writeSecond(float* out, size_t stride, const RegionFrame& f) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out[(3 * i + j) * stride] = f.R.m[i][j];
+    out[9 * stride] = f.t.x, out[10 * stride] = f.t.y, out[11 * stride] = f.t.z;
+    out[12 * stride] = f.omega.x, out[13 * stride] = f.omega.y, out[14 * stride] = f.omega.z;
+    out[15 * stride] = f.u.x, out[16 * stride] = f.u.y, out[17 * stride] = f.u.z;
+}
+
+// First-summation channels of particle j (positions relative to the body's reference point).
+void firstChannels(float* out, size_t stride, float m, Vec3 xr, Vec3 x0, Vec3 vel) {
+    const Vec3 mx = xr * m;
+    out[0] = mx.x, out[stride] = mx.y, out[2 * stride] = mx.z;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out[(3 + 3 * i + j) * stride] = mx[i] * x0[j];
+    const Vec3 mv = vel * m, mxv = cross(mx, vel);
+    out[12 * stride] = mv.x, out[13 * stride] = mv.y, out[14 * stride] = mv.z;
+    out[15 * stride] = mxv.x, out[16 * stride] = mxv.y, out[17 * stride] = mxv.z;
+    out[18 * stride] = mx.x * xr.x, out[19 * stride] = mx.y * xr.y, out[20 * stride] = mx.z * xr.z;
+    out[21 * stride] = mx.x * xr.y, out[22 * stride] = mx.x * xr.z, out[23 * stride] = mx.y * xr.z;
+}
+
+// Goals (relative to ref) and rigid velocities of every particle. outGoal/outRigid: #P.
+void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x,
+                  std::span<const Vec3> v, Vec3 ref, std::span<Quat> rotations, int iterations,
+                  bool wantVelocity, ShapeMatchingScratch& s, bool naive) {
+    const size_t P = model.particlePoint.size();
+    s.goal.resize(P);
+    s.rigidVelocity.resize(P);
+    if (naive) {
+        s.region.resize(P * kSecondChannels);
+        float S[kFirstChannels], T[kFirstChannels];
+        for (uint32_t r = 0; r < P; ++r) {
+            std::fill(S, S + kFirstChannels, 0.0f);
+            for (uint32_t k = model.memberStart[r]; k < model.memberStart[r + 1]; ++k) {
+                const uint32_t j = model.members[k];
+                firstChannels(T, 1, model.tildeMass[j], x[j] - ref, model.restCentred[j],
+                              v.empty() ? Vec3{} : v[j]);
+                for (int c = 0; c < kFirstChannels; ++c) S[c] += T[c];
+            }
+            const RegionFrame f = regionFrame(model, r, S, rotations[r], iterations, wantVelocity);
+            writeSecond(&s.region[r * kSecondChannels], 1, f);
+        }
+        for (uint32_t i = 0; i < P; ++i) {
+            float U[kSecondChannels] = {};
+            for (uint32_t k = model.memberStart[i]; k < model.memberStart[i + 1]; ++k) {
+                const float* f = &s.region[model.members[k] * kSecondChannels];
+                for (int c = 0; c < kSecondChannels; ++c) U[c] += f[c];
+            }
+            const float inv = 1.0f / model.regionSize[i];
+            const Vec3 x0 = model.restCentred[i];
+            const Mat3 SR{{{U[0], U[1], U[2]}, {U[3], U[4], U[5]}, {U[6], U[7], U[8]}}};
+            s.goal[i] = (SR * x0 + Vec3{U[9], U[10], U[11]}) * inv;
+            s.rigidVelocity[i] =
+                (Vec3{U[15], U[16], U[17]} + cross(Vec3{U[12], U[13], U[14]}, x[i] - ref)) * inv;
+        }
+        return;
+    }
+
+    const size_t G = model.paddedPointCount();
+    const int firstChannelsUsed = wantVelocity ? kFirstChannels : 12;
+    const int secondChannelsUsed = wantVelocity ? kSecondChannels : 12;
+    s.a.resize(G * kFirstChannels);
+    s.b.resize(G * kFirstChannels);
+    std::memset(s.a.data(), 0, G * size_t(firstChannelsUsed) * sizeof(float));
+    for (uint32_t j = 0; j < P; ++j)
+        firstChannels(&s.a[model.particlePoint[j]], G, model.tildeMass[j], x[j] - ref,
+                      model.restCentred[j], v.empty() ? Vec3{} : v[j]);
+    cubeSum(model, s.a, s.b, firstChannelsUsed);
+
+    // Regions: gather their sums, then scatter their frames for the second summation.
+    float S[kFirstChannels];
+    s.region.resize(P * kSecondChannels);
+    for (uint32_t r = 0; r < P; ++r) {
+        const size_t g = model.particlePoint[r];
+        for (int c = 0; c < firstChannelsUsed; ++c) S[c] = s.b[size_t(c) * G + g];
+        const RegionFrame f = regionFrame(model, r, S, rotations[r], iterations, wantVelocity);
+        writeSecond(&s.region[r * kSecondChannels], 1, f);
+    }
+    std::memset(s.a.data(), 0, G * size_t(secondChannelsUsed) * sizeof(float));
+    for (uint32_t r = 0; r < P; ++r) {
+        const size_t g = model.particlePoint[r];
+        const float* f = &s.region[r * kSecondChannels];
+        for (int c = 0; c < secondChannelsUsed; ++c) s.a[size_t(c) * G + g] = f[c];
+    }
+    cubeSum(model, s.a, s.b, secondChannelsUsed);
+    for (uint32_t i = 0; i < P; ++i) {
+        const size_t g = model.particlePoint[i];
+        const float* U = &s.b[g];
+        auto at = [&](int c) { return U[size_t(c) * G]; };
+        const float inv = 1.0f / model.regionSize[i];
+        const Vec3 x0 = model.restCentred[i];
+        const Mat3 SR{{{at(0), at(1), at(2)}, {at(3), at(4), at(5)}, {at(6), at(7), at(8)}}};
+        s.goal[i] = (SR * x0 + Vec3{at(9), at(10), at(11)}) * inv;
+        if (wantVelocity)
+            s.rigidVelocity[i] =
+                (Vec3{at(15), at(16), at(17)} + cross(Vec3{at(12), at(13), at(14)}, x[i] - ref)) *
+                inv;
+    }
+}
+
+Vec3 massCentre(const ShapeMatchingModel& model, std::span<const Vec3> x) {
+    Vec3 c{};
+    for (size_t i = 0; i < x.size(); ++i) c += x[i] * model.massFraction[i];
+    return c;
+}
+
+} // namespace
+
+std::vector<float> cornerMassFractions(const Lattice& lattice) {
+    std::vector<float> m(lattice.particleCount(), 0.0f);
+    const float share = 1.0f / (8.0f * float(lattice.cellCount()));
+    for (const auto& corners : lattice.cellParticles)
+        for (uint32_t p : corners) m[p] += share;
+    return m;
+}
+
+ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int w) {
+    if (w < 1 || w > 4)
+        throw InputError("body.regionHalfWidth", "region half-width " + std::to_string(w) +
+                                                     " is out of range (expected 1..4)");
+    ShapeMatchingModel m;
+    m.halfWidth = w;
+    for (int a = 0; a < 3; ++a) m.paddedDims[a] = lattice.dims[a] + 1 + 2 * w;
+    const size_t P = lattice.particleCount();
+    const size_t px = size_t(m.paddedDims[0]), py = size_t(m.paddedDims[1]);
+    std::vector<int32_t> at(m.paddedPointCount(), -1);
+    m.particlePoint.resize(P);
+    for (size_t p = 0; p < P; ++p) {
+        const GridCoord& g = lattice.particleCoords[p];
+        const size_t idx = size_t(g[0] + w) + px * (size_t(g[1] + w) + py * size_t(g[2] + w));
+        m.particlePoint[p] = uint32_t(idx);
+        at[idx] = int32_t(p);
+    }
+    // Members: the particles in the cube around each particle, in grid order.
+    m.memberStart.push_back(0);
+    for (size_t p = 0; p < P; ++p) {
+        const GridCoord& g = lattice.particleCoords[p];
+        for (int dz = -w; dz <= w; ++dz)
+            for (int dy = -w; dy <= w; ++dy)
+                for (int dx = -w; dx <= w; ++dx) {
+                    const size_t idx = size_t(g[0] + w + dx) +
+                                       px * (size_t(g[1] + w + dy) + py * size_t(g[2] + w + dz));
+                    if (at[idx] >= 0) m.members.push_back(uint32_t(at[idx]));
+                }
+        m.memberStart.push_back(uint32_t(m.members.size()));
+    }
+    m.massFraction = cornerMassFractions(lattice);
+    m.regionSize.resize(P);
+    m.tildeMass.resize(P);
+    for (size_t p = 0; p < P; ++p) {
+        m.regionSize[p] = float(m.memberStart[p + 1] - m.memberStart[p]);
+        m.tildeMass[p] = m.massFraction[p] / m.regionSize[p];
+    }
+    Vec3 centre{};
+    for (size_t p = 0; p < P; ++p) centre += lattice.restParticles[p] * m.massFraction[p];
+    m.restCentred.resize(P);
+    for (size_t p = 0; p < P; ++p) m.restCentred[p] = lattice.restParticles[p] - centre;
+    m.regionMass.resize(P);
+    m.regionRestCentre.resize(P);
+    for (size_t r = 0; r < P; ++r) {
+        float M = 0;
+        Vec3 c{};
+        for (uint32_t k = m.memberStart[r]; k < m.memberStart[r + 1]; ++k) {
+            const uint32_t j = m.members[k];
+            M += m.tildeMass[j];
+            c += m.restCentred[j] * m.tildeMass[j];
+        }
+        m.regionMass[r] = M;
+        m.regionRestCentre[r] = c / M;
+    }
+    return m;
+}
+
+void shapeMatchingGoals(const ShapeMatchingModel& model, std::span<const Vec3> x,
+                        std::span<Quat> rotations, int rotationIterations,
+                        ShapeMatchingScratch& scratch, std::span<Vec3> outGoals, bool naive) {
+    const Vec3 ref = massCentre(model, x);
+    computeGoals(model, x, {}, ref, rotations, rotationIterations, false, scratch, naive);
+    for (size_t i = 0; i < x.size(); ++i) outGoals[i] = scratch.goal[i] + ref;
+}
+
+void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep& step,
+                       std::span<Vec3> x, std::span<Vec3> v, std::span<Quat> rotations,
+                       ShapeMatchingScratch& s, bool naive) {
+    const Vec3 ref = massCentre(model, x);
+    const bool damp = step.damping > 0;
+    computeGoals(model, x, v, ref, rotations, step.rotationIterations, damp, s, naive);
+    const float k = step.stiffness / step.dt;
+    const Vec3 dv = step.acceleration * step.dt;
+    for (size_t i = 0; i < x.size(); ++i) {
+        Vec3 vi = v[i];
+        if (damp) vi += (s.rigidVelocity[i] - vi) * step.damping;
+        // Goal minus position, both relative to ref, so that rounding scales with the body's
+        // size rather than its distance from the origin.
+        vi += (s.goal[i] - (x[i] - ref)) * k + dv;
+        v[i] = vi;
+        x[i] += vi * step.dt;
+    }
+}
+
+} // namespace ffd::detail

@@ -1,0 +1,80 @@
+// Lattice shape matching on the FFD lattice's particles.
+//
+// Reference: A. R. Rivers, D. L. James, "FastLSM: Fast Lattice Shape Matching for Robust
+// Real-Time Deformation", SIGGRAPH 2007; M. Mueller, B. Heidelberger, M. Teschner, M. Gross,
+// "Meshless Deformations Based on Shape Matching", SIGGRAPH 2005 (the goal-position update);
+// M. Mueller, B. Heidelberger, M. Hennix, J. Ratcliff, "Position Based Dynamics", 2006 (damping
+// that leaves rigid motion alone, applied here per region).
+//
+// Region r (one per particle) holds the particles within the (2w+1)^3 cube of lattice points
+// around particle r (FastLSM's regions; the same as w steps over 26-neighbour connectivity
+// wherever the lattice has no gaps). Membership is symmetric, so the regions containing
+// particle i are exactly the members of region i. With m~_i = m_i / |R_i|:
+//   c_r = sum m~ x / M_r,  A_r = sum m~ x x0^T - M_r c_r c0_r^T,  R_r = rot(A_r),
+//   g_i = mean over r in R_i of R_r (x0_i - c0_r) + c_r.
+// Every sum is a box filter over the lattice's point grid, so FastLSM's separable summation
+// (bars along x, plates along y, cubes along z) makes the cost independent of w.
+#pragma once
+
+#include "ffdaabb/lattice.h"
+
+#include <span>
+#include <vector>
+
+namespace ffd::detail {
+
+/// Immutable shape-matching data of one lattice, shared by all bodies made from it.
+struct ShapeMatchingModel {
+    int halfWidth = 1;                   ///< w
+    GridCoord paddedDims{0, 0, 0};       ///< lattice point grid + w zeros on each side
+    std::vector<uint32_t> particlePoint; ///< #P index into the padded grid
+    std::vector<float> massFraction;     ///< #P m_i / M (sums to 1)
+    std::vector<float> tildeMass;        ///< #P m~_i / M
+    std::vector<float> regionSize;       ///< #P |R_i|
+    std::vector<float> regionMass;       ///< #P M_r / M
+    std::vector<Vec3> restCentred;       ///< #P x0_i - (rest centre of mass)
+    std::vector<Vec3> regionRestCentre;  ///< #P c0_r, same frame
+    std::vector<uint32_t> memberStart;   ///< #P + 1, CSR of region members (naive path, tests)
+    std::vector<uint32_t> members;
+
+    size_t paddedPointCount() const {
+        return size_t(paddedDims[0]) * paddedDims[1] * paddedDims[2];
+    }
+};
+
+ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int halfWidth);
+
+/// Per-substep parameters.
+struct ShapeMatchingStep {
+    float dt = 1.0f / 120.0f;
+    float stiffness = 1.0f;      ///< alpha in (0,1]
+    float damping = 0.0f;        ///< fraction of each region's non-rigid velocity removed, [0,1]
+    Vec3 acceleration;           ///< gravity + external force / mass, m/s^2
+    int rotationIterations = 2;  ///< warm-started polar iterations per region
+};
+
+/// Reusable buffers (one per thread).
+struct ShapeMatchingScratch {
+    std::vector<float> a, b;       ///< channel-major padded grids
+    std::vector<float> region;     ///< per-region values between the passes
+    std::vector<Vec3> goal, rigidVelocity;
+};
+
+/// One substep for one body: goals from the current positions, then
+/// v += damping * (v_rigid - v) + alpha (g - x) / dt + dt a;  x += dt v.
+/// x, v: #P; rotations: #P warm-start quaternions (one per region), updated.
+/// `naive` sums over the explicit member lists instead (same result up to rounding).
+void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep& step,
+                       std::span<Vec3> x, std::span<Vec3> v, std::span<Quat> rotations,
+                       ShapeMatchingScratch& scratch, bool naive = false);
+
+/// Goal positions only (no integration), for tests: outGoals #P.
+void shapeMatchingGoals(const ShapeMatchingModel& model, std::span<const Vec3> x,
+                        std::span<Quat> rotations, int rotationIterations,
+                        ShapeMatchingScratch& scratch, std::span<Vec3> outGoals,
+                        bool naive = false);
+
+/// Mass fraction of each particle: each cell's share 1/C split equally among its 8 corners.
+std::vector<float> cornerMassFractions(const Lattice& lattice);
+
+} // namespace ffd::detail

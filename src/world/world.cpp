@@ -1,0 +1,560 @@
+// World: bodies, the staged step and its profile.
+#include "ffdaabb/world.h"
+
+#include "collision/pipeline.h"
+#include "ffdaabb/error.h"
+#include "world/world_data.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace ffd {
+
+using detail::BodyModel;
+using detail::BodyRecord;
+using detail::WorldData;
+
+const char* toString(CollisionMode mode) {
+    switch (mode) {
+    case CollisionMode::Enhanced: return "enhanced";
+    case CollisionMode::Previous: return "previous";
+    case CollisionMode::Brute: return "brute";
+    case CollisionMode::None: return "none";
+    }
+    return "?";
+}
+
+const char* toString(DynamicsModel model) {
+    return model == DynamicsModel::ShapeMatching ? "shape-matching" : "mass-spring";
+}
+
+bool parseCollisionMode(std::string_view text, CollisionMode& out) {
+    for (CollisionMode m : {CollisionMode::Enhanced, CollisionMode::Previous, CollisionMode::Brute,
+                            CollisionMode::None})
+        if (text == toString(m)) {
+            out = m;
+            return true;
+        }
+    return false;
+}
+
+bool parseDynamicsModel(std::string_view text, DynamicsModel& out) {
+    for (DynamicsModel m : {DynamicsModel::ShapeMatching, DynamicsModel::MassSpring})
+        if (text == toString(m)) {
+            out = m;
+            return true;
+        }
+    return false;
+}
+
+namespace {
+
+std::string str(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+void requireRange(const char* field, double value, double lo, double hi, const char* expected) {
+    if (!(value >= lo && value <= hi))
+        throw InputError(field, "value " + str(value) + " is out of range (expected " + expected + ")");
+}
+
+void requireFinite(const char* field, Vec3 v) {
+    if (!isFinite(v))
+        throw InputError(field, "value (" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) +
+                                    ") is not finite (expected finite numbers)");
+}
+
+uint64_t fnv1a(uint64_t h, const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+// The cache key of a model: the mesh's exact bytes (hashed) and everything that shapes the
+// shared data.
+std::string modelKey(const TriangleMesh& mesh, const BodySettings& s) {
+    uint64_t h = 14695981039346656037ull;
+    h = fnv1a(h, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+    h = fnv1a(h, mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%016llx/%zu/%zu/%a/%a/%d/%d/%a/%d/%d",
+                  static_cast<unsigned long long>(h), mesh.positions.size(), mesh.triangles.size(),
+                  double(s.lattice.cellSize), double(s.lattice.resolution), s.lattice.targetCells,
+                  int(s.lattice.fillInterior), double(s.lattice.boxSkin), int(s.model),
+                  s.regionHalfWidth);
+    return buf;
+}
+
+std::shared_ptr<const BodyModel> buildModel(const TriangleMesh& mesh, const BodySettings& s) {
+    auto model = std::make_shared<BodyModel>();
+    model->mesh = mesh;
+    model->lattice = buildLattice(mesh, s.lattice);
+    model->dynamics = s.model;
+    if (s.model == DynamicsModel::ShapeMatching) {
+        model->shapeMatching = detail::buildShapeMatching(model->lattice, s.regionHalfWidth);
+        model->massFraction = model->shapeMatching.massFraction;
+    } else {
+        model->springs = detail::buildMassSpring(model->lattice);
+        model->massFraction = detail::cornerMassFractions(model->lattice);
+    }
+    const double meshVolume = isClosed(mesh) ? signedVolume(mesh) : 0.0;
+    const double h = model->lattice.cellSize;
+    model->volume = meshVolume > 0 ? float(meshVolume)
+                                   : float(double(model->lattice.cellCount()) * h * h * h);
+    return model;
+}
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+} // namespace
+
+void validate(const WorldSettings& s) {
+    requireRange("world.frameStep", s.frameStep, 1e-5, 1.0, "seconds in (0, 1]");
+    requireRange("world.substeps", s.substeps, 1, 1000, "1..1000");
+    requireFinite("world.gravity", s.gravity);
+    requireRange("world.floorHeight", s.floorHeight, -1e6, 1e6, "a finite height");
+    requireRange("world.contactSkin", s.contactSkin, 0.0, 1.0, "0..1 of a cell");
+    requireRange("world.solverIterations", s.solverIterations, 1, 1000, "1..1000");
+    requireRange("world.threads", s.threads, 0, 1024, "0 (all cores)..1024");
+    requireRange("world.sweepThreshold", s.sweepThreshold, 0, 1e9, ">= 0");
+    if (s.mode != CollisionMode::Enhanced && s.mode != CollisionMode::Previous &&
+        s.mode != CollisionMode::Brute && s.mode != CollisionMode::None)
+        throw InputError("world.mode", "unknown collision mode");
+}
+
+void validate(const BodySettings& s) {
+    requireRange("body.regionHalfWidth", s.regionHalfWidth, 1, 4, "1..4");
+    requireRange("body.stiffness", s.stiffness, 1e-6, 1.0, "(0, 1]");
+    requireRange("body.youngsModulus", s.youngsModulus, 1.0, 1e12, "1..1e12 Pa");
+    requireRange("body.springIterations", s.springIterations, 1, 1000, "1..1000");
+    requireRange("body.density", s.density, 1e-6, 1e6, "kg/m^3 in (0, 1e6]");
+    requireRange("body.mass", s.mass, 0.0, 1e9, "0 (from density) or kg up to 1e9");
+    requireRange("body.damping", s.damping, 0.0, 1e4, "0..1e4 per second");
+    requireRange("body.friction", s.friction, 0.0, 10.0, "0..10");
+    requireRange("body.restitution", s.restitution, 0.0, 1.0, "0..1");
+    requireFinite("body.position", s.position);
+    requireFinite("body.velocity", s.velocity);
+    requireFinite("body.angularVelocity", s.angularVelocity);
+    const Quat& q = s.rotation;
+    const float n = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    if (!(std::isfinite(n) && n > 1e-12f))
+        throw InputError("body.rotation", "rotation is not a valid quaternion (zero or non-finite)");
+}
+
+World::World(const WorldSettings& settings) : data_(std::make_unique<WorldData>()) {
+    validate(settings);
+    data_->settings = settings;
+}
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
+    validate(settings);
+    validate(mesh, mesh.name.empty() ? "mesh" : mesh.name);
+    WorldData& w = *data_;
+    const std::string key = modelKey(mesh, settings);
+    auto cached = w.modelCache.find(key);
+    std::shared_ptr<const BodyModel> model =
+        cached != w.modelCache.end() ? cached->second : buildModel(mesh, settings);
+    if (cached == w.modelCache.end()) w.modelCache.emplace(key, model);
+
+    const Lattice& L = model->lattice;
+    BodyRecord r;
+    r.model = model;
+    r.settings = settings;
+    r.settings.rotation = normalize(settings.rotation);
+    r.mass = settings.mass > 0 ? settings.mass : settings.density * model->volume;
+    r.cellSize = L.cellSize;
+    r.firstParticle = uint32_t(w.x.size());
+    r.particleCount = uint32_t(L.particleCount());
+    r.firstBox = uint32_t(w.boxBounds.size());
+    r.boxCount = uint32_t(L.boxes.size());
+    r.firstVertex = uint32_t(w.vertices.size());
+    r.vertexCount = uint32_t(mesh.positions.size());
+
+    const Mat3 R = toMat3(r.settings.rotation);
+    for (uint32_t p = 0; p < r.particleCount; ++p) {
+        const Vec3 arm = R * L.restParticles[p];
+        w.x.push_back(arm + settings.position);
+        w.v.push_back(settings.velocity + cross(settings.angularVelocity, arm));
+        w.invMass.push_back(1.0f / (r.mass * model->massFraction[p]));
+        w.particleForce.push_back({});
+        w.rotations.push_back(r.settings.rotation);
+    }
+    w.nodes.resize(w.nodes.size() + size_t(r.boxCount) * 8);
+    w.boxBounds.resize(w.boxBounds.size() + r.boxCount);
+    w.vertices.resize(w.vertices.size() + r.vertexCount);
+
+    uint32_t slot;
+    if (!w.freeSlots.empty()) {
+        slot = w.freeSlots.back();
+        w.freeSlots.pop_back();
+    } else {
+        slot = uint32_t(w.slots.size());
+        w.slots.push_back({});
+    }
+    r.slot = slot;
+    w.slots[slot].dense = uint32_t(w.bodies.size());
+    w.bodies.push_back(std::move(r));
+    detail::rebuildCollisionTopology(w);
+    const BodyId id{slot, w.slots[slot].generation};
+    updateMesh(id);
+    return id;
+}
+
+bool World::removeBody(BodyId id) {
+    WorldData& w = *data_;
+    const BodyRecord* found = w.find(id);
+    if (!found) return false;
+    const uint32_t dense = w.slots[id.index].dense;
+    const BodyRecord r = *found;
+    auto eraseRange = [](auto& vec, size_t first, size_t count) {
+        vec.erase(vec.begin() + ptrdiff_t(first), vec.begin() + ptrdiff_t(first + count));
+    };
+    eraseRange(w.x, r.firstParticle, r.particleCount);
+    eraseRange(w.v, r.firstParticle, r.particleCount);
+    eraseRange(w.invMass, r.firstParticle, r.particleCount);
+    eraseRange(w.particleForce, r.firstParticle, r.particleCount);
+    eraseRange(w.rotations, r.firstParticle, r.particleCount);
+    eraseRange(w.nodes, size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
+    eraseRange(w.boxBounds, r.firstBox, r.boxCount);
+    eraseRange(w.vertices, r.firstVertex, r.vertexCount);
+    w.bodies.erase(w.bodies.begin() + dense);
+    for (size_t b = dense; b < w.bodies.size(); ++b) {
+        BodyRecord& later = w.bodies[b];
+        later.firstParticle -= r.particleCount;
+        later.firstBox -= r.boxCount;
+        later.firstVertex -= r.vertexCount;
+        w.slots[later.slot].dense = uint32_t(b);
+    }
+    w.slots[id.index].dense = UINT32_MAX;
+    ++w.slots[id.index].generation;
+    w.freeSlots.push_back(id.index);
+    w.collision.pairs.clear();
+    detail::rebuildCollisionTopology(w);
+    return true;
+}
+
+bool World::isValid(BodyId id) const { return data_->find(id) != nullptr; }
+size_t World::bodyCount() const { return data_->bodies.size(); }
+
+std::vector<BodyId> World::bodies() const {
+    std::vector<BodyId> ids;
+    for (const BodyRecord& r : data_->bodies) ids.push_back({r.slot, data_->slots[r.slot].generation});
+    return ids;
+}
+
+namespace {
+
+const BodyRecord& get(const WorldData& w, BodyId id) {
+    const BodyRecord* r = w.find(id);
+    if (!r) throw InputError("body", "stale or invalid body handle (index " +
+                                         std::to_string(id.index) + ", generation " +
+                                         std::to_string(id.generation) + ")");
+    return *r;
+}
+
+// Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
+template <class F>
+void forEachBody(WorldData& w, F&& fn) {
+    const size_t n = w.bodies.size();
+    const int threads = w.settings.threads == 0 ? int(tbb::info::default_concurrency())
+                                                : w.settings.threads;
+    if (w.scratch.size() < size_t(std::max(threads, 1))) w.scratch.resize(size_t(std::max(threads, 1)));
+    if (threads <= 1 || n < 2) {
+        fn(size_t(0), n, w.scratch[0]);
+        return;
+    }
+    // Bodies are independent in these stages, so any split gives bit-identical results.
+    static thread_local std::unique_ptr<tbb::task_arena> arena;
+    if (!arena || arena->max_concurrency() != threads)
+        arena = std::make_unique<tbb::task_arena>(threads);
+    arena->execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& r) {
+            const int slot = tbb::this_task_arena::current_thread_index();
+            fn(r.begin(), r.end(), w.scratch[size_t(slot) % w.scratch.size()]);
+        });
+    });
+}
+
+void dynamicsStage(WorldData& w, float dt) {
+    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch& scratch) {
+        for (size_t b = first; b < last; ++b) {
+            BodyRecord& r = w.bodies[b];
+            const size_t p0 = r.firstParticle, np = r.particleCount;
+            std::span<Vec3> x(w.x.data() + p0, np), v(w.v.data() + p0, np);
+            // Point forces act through the particles' own masses; body forces as a uniform
+            // acceleration.
+            for (size_t i = 0; i < np; ++i) {
+                const Vec3 f = w.particleForce[p0 + i];
+                if (f.x != 0 || f.y != 0 || f.z != 0) v[i] += f * (dt * w.invMass[p0 + i]);
+            }
+            const Vec3 accel = (w.settings.gravity + r.force / r.mass) * (r.halfKick ? 0.5f : 1.0f);
+            r.halfKick = false;
+            const float damping = 1.0f - std::exp(-r.settings.damping * dt);
+            if (r.model->dynamics == DynamicsModel::ShapeMatching) {
+                detail::ShapeMatchingStep step;
+                step.dt = dt;
+                step.stiffness = r.settings.stiffness;
+                step.damping = damping;
+                step.acceleration = accel;
+                stepShapeMatching(r.model->shapeMatching, step, x, v,
+                                  std::span<Quat>(w.rotations.data() + p0, np),
+                                  scratch.shapeMatching);
+            } else {
+                detail::MassSpringStep step;
+                step.dt = dt;
+                step.youngsModulus = r.settings.youngsModulus;
+                step.damping = damping;
+                step.acceleration = accel;
+                step.iterations = r.settings.springIterations;
+                stepMassSpring(r.model->springs, step,
+                               std::span<const float>(w.invMass.data() + p0, np), x, v,
+                               scratch.massSpring);
+            }
+        }
+    });
+}
+
+} // namespace
+
+void World::step() {
+    WorldData& w = *data_;
+    Profile& prof = w.profile;
+    prof = Profile{};
+    const auto frameStart = Clock::now();
+    const float dt = w.settings.frameStep / float(w.settings.substeps);
+    float deepest = 0;
+    for (int sub = 0; sub < w.settings.substeps; ++sub) {
+        auto t = Clock::now();
+        dynamicsStage(w, dt);
+        prof.dynamics += msSince(t);
+
+        t = Clock::now();
+        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+            detail::updateNodes(w, first, last);
+        });
+        prof.nodeUpdate += msSince(t);
+
+        w.collision.pairs.clear();
+        if (w.settings.mode == CollisionMode::Enhanced) {
+            t = Clock::now();
+            detail::sphereTest(w);
+            prof.sphereTest += msSince(t);
+            prof.candidatePairs = int(w.collision.pairs.size());
+        } else if (w.settings.mode != CollisionMode::None) {
+            const size_t n = w.bodies.size();
+            prof.candidatePairs = int(n * (n - (n > 0)) / 2);
+        }
+
+        t = Clock::now();
+        deepest = std::fmax(deepest, detail::floorCollision(w, dt));
+        prof.floor += msSince(t);
+
+        t = Clock::now();
+        deepest = std::fmax(deepest, detail::objectCollision(w, dt));
+        prof.objectCollision += msSince(t);
+    }
+    for (BodyRecord& r : w.bodies) r.force = {};
+    std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
+
+    if (w.settings.meshUpdate) {
+        const auto t = Clock::now();
+        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+            for (size_t b = first; b < last; ++b) {
+                const BodyRecord& r = w.bodies[b];
+                deformVertices(r.model->lattice,
+                               std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
+                               std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
+            }
+        });
+        prof.meshUpdate = msSince(t);
+    }
+    prof.maxPenetration = deepest;
+    prof.total = msSince(frameStart);
+    ++w.frame;
+}
+
+std::span<const Vec3> World::vertices(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    return {data_->vertices.data() + r.firstVertex, r.vertexCount};
+}
+
+std::span<const std::array<uint32_t, 3>> World::triangles(BodyId id) const {
+    return get(*data_, id).model->mesh.triangles;
+}
+
+std::span<const Vec3> World::particles(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    return {data_->x.data() + r.firstParticle, r.particleCount};
+}
+
+std::span<const Vec3> World::velocities(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    return {data_->v.data() + r.firstParticle, r.particleCount};
+}
+
+std::span<const Vec3> World::boxNodes(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    return {data_->nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8};
+}
+
+const Lattice& World::lattice(BodyId id) const { return get(*data_, id).model->lattice; }
+Aabb World::bounds(BodyId id) const { return get(*data_, id).bounds; }
+
+void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
+    const BodyRecord& r = get(*data_, id);
+    centre = r.sphereCentre;
+    radius = r.sphereRadius;
+}
+
+Vec3 World::centreOfMass(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    double m = 0;
+    Vec3 c{};
+    for (uint32_t i = 0; i < r.particleCount; ++i) {
+        const float mi = 1.0f / data_->invMass[r.firstParticle + i];
+        c += data_->x[r.firstParticle + i] * mi;
+        m += double(mi);
+    }
+    return c / float(m);
+}
+
+Vec3 World::linearVelocity(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    double m = 0;
+    Vec3 p{};
+    for (uint32_t i = 0; i < r.particleCount; ++i) {
+        const float mi = 1.0f / data_->invMass[r.firstParticle + i];
+        p += data_->v[r.firstParticle + i] * mi;
+        m += double(mi);
+    }
+    return p / float(m);
+}
+
+BodyInfo World::info(BodyId id) const {
+    const BodyRecord& r = get(*data_, id);
+    const Lattice& L = r.model->lattice;
+    BodyInfo i;
+    i.vertices = r.model->mesh.positions.size();
+    i.triangles = r.model->mesh.triangles.size();
+    i.cells = L.cellCount();
+    i.surfaceCells = L.surfaceCellCount();
+    i.particles = L.particleCount();
+    i.cellSize = L.cellSize;
+    i.mass = r.mass;
+    return i;
+}
+
+const BodySettings& World::settings(BodyId id) const { return get(*data_, id).settings; }
+
+void World::applyForce(BodyId id, Vec3 force) {
+    requireFinite("force", force);
+    get(*data_, id);
+    data_->find(id)->force += force;
+}
+
+void World::applyImpulse(BodyId id, Vec3 impulse) {
+    requireFinite("impulse", impulse);
+    const BodyRecord& r = get(*data_, id);
+    const Vec3 dv = impulse / r.mass;
+    for (uint32_t i = 0; i < r.particleCount; ++i) data_->v[r.firstParticle + i] += dv;
+}
+
+void World::applyParticleForce(BodyId id, uint32_t particle, Vec3 force) {
+    requireFinite("force", force);
+    const BodyRecord& r = get(*data_, id);
+    if (particle >= r.particleCount)
+        throw InputError("particle", "index " + std::to_string(particle) + " is out of range (body has " +
+                                         std::to_string(r.particleCount) + " particles)");
+    data_->particleForce[r.firstParticle + particle] += force;
+}
+
+void World::translate(BodyId id, Vec3 offset) {
+    requireFinite("offset", offset);
+    const BodyRecord& r = get(*data_, id);
+    for (uint32_t i = 0; i < r.particleCount; ++i) data_->x[r.firstParticle + i] += offset;
+    updateMesh(id);
+}
+
+void World::setVelocity(BodyId id, Vec3 velocity) {
+    requireFinite("velocity", velocity);
+    const BodyRecord& r = get(*data_, id);
+    for (uint32_t i = 0; i < r.particleCount; ++i) data_->v[r.firstParticle + i] = velocity;
+    data_->find(id)->halfKick = true;
+}
+
+void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetVelocity) {
+    const BodyRecord& r = get(*data_, id);
+    if (positions.size() != r.particleCount)
+        throw InputError("particles", "got " + std::to_string(positions.size()) +
+                                          " positions, the body has " +
+                                          std::to_string(r.particleCount) + " particles");
+    for (uint32_t i = 0; i < r.particleCount; ++i) {
+        if (!isFinite(positions[i]))
+            throw InputError("particles", "position " + std::to_string(i) + " is not finite");
+    }
+    for (uint32_t i = 0; i < r.particleCount; ++i) {
+        data_->x[r.firstParticle + i] = positions[i];
+        if (resetVelocity) data_->v[r.firstParticle + i] = {};
+    }
+    if (resetVelocity) data_->find(id)->halfKick = true;
+    updateMesh(id);
+}
+
+void World::updateMesh(BodyId id) {
+    WorldData& w = *data_;
+    const BodyRecord& r = get(w, id);
+    const uint32_t dense = w.slots[id.index].dense;
+    detail::updateNodes(w, dense, dense + 1);
+    deformVertices(r.model->lattice,
+                   std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
+                   std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
+}
+
+const WorldSettings& World::settings() const { return data_->settings; }
+
+void World::setSettings(const WorldSettings& settings) {
+    validate(settings);
+    data_->settings = settings;
+}
+
+void World::setMode(CollisionMode mode) {
+    WorldSettings s = data_->settings;
+    s.mode = mode;
+    setSettings(s);
+}
+
+const Profile& World::profile() const { return data_->profile; }
+uint64_t World::frame() const { return data_->frame; }
+
+uint64_t World::stateHash() const {
+    uint64_t h = 14695981039346656037ull;
+    h = fnv1a(h, data_->x.data(), data_->x.size() * sizeof(Vec3));
+    h = fnv1a(h, data_->v.data(), data_->v.size() * sizeof(Vec3));
+    return h;
+}
+
+double World::kineticEnergy() const {
+    double e = 0;
+    for (size_t i = 0; i < data_->v.size(); ++i)
+        e += 0.5 * double(lengthSquared(data_->v[i])) / double(data_->invMass[i]);
+    return e;
+}
+
+} // namespace ffd

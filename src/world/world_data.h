@@ -1,0 +1,94 @@
+// The world's internal state, shared by the stage functions (dynamics, collision, ...).
+// Hot per-particle and per-node data live in world-wide flat arrays; each body owns a range.
+// Rest/topology data live in BodyModel, immutable and shared between bodies.
+#pragma once
+
+#include "collision/contact.h"
+#include "dynamics/mass_spring.h"
+#include "dynamics/shape_matching.h"
+#include "ffdaabb/world.h"
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ffd::detail {
+
+/// Immutable data shared by every body made from the same mesh and model settings.
+struct BodyModel {
+    TriangleMesh mesh;               ///< rest mesh
+    Lattice lattice;
+    DynamicsModel dynamics = DynamicsModel::ShapeMatching;
+    ShapeMatchingModel shapeMatching; ///< empty for mass-spring bodies
+    MassSpringModel springs;          ///< empty for shape-matching bodies
+    std::vector<float> massFraction;  ///< #P, sums to 1
+    float volume = 0;                 ///< m^3: the mesh's when closed, else the lattice's
+};
+
+/// A body's slot in the world: its ranges in the flat arrays and its material.
+struct BodyRecord {
+    std::shared_ptr<const BodyModel> model;
+    BodySettings settings;
+    uint32_t slot = 0;
+    uint32_t firstParticle = 0, particleCount = 0;
+    uint32_t firstBox = 0, boxCount = 0; // nodes: [firstBox * 8, (firstBox + boxCount) * 8)
+    uint32_t firstVertex = 0, vertexCount = 0;
+    float mass = 0;
+    float cellSize = 0;
+    Vec3 force;                         ///< accumulated for the next step
+    /// Velocities are stored at half steps (leapfrog): a body whose velocity was just set gets
+    /// half the acceleration's kick in its first substep, which makes free fall exact.
+    bool halfKick = true;
+    Aabb bounds;                        ///< of the box nodes, from the last node update
+    Vec3 sphereCentre;                  ///< bounding sphere (enhanced mode)
+    float sphereRadius = 0;
+};
+
+struct Slot {
+    uint32_t generation = 1;
+    uint32_t dense = UINT32_MAX; ///< index into WorldData::bodies, UINT32_MAX when free
+};
+
+/// Per-thread scratch of the per-body stages.
+struct ThreadScratch {
+    ShapeMatchingScratch shapeMatching;
+    MassSpringScratch massSpring;
+};
+
+struct WorldData {
+    WorldSettings settings;
+    std::vector<BodyRecord> bodies; ///< in insertion order
+    std::vector<Slot> slots;
+    std::vector<uint32_t> freeSlots;
+
+    // Flat per-particle state.
+    std::vector<Vec3> x, v;
+    std::vector<Vec3> particleForce; ///< external forces for the next step, N
+    std::vector<float> invMass;
+    std::vector<Quat> rotations;     ///< warm start of each shape-matching region
+    // Flat per-box / per-node state.
+    std::vector<Vec3> nodes;         ///< 8 per box
+    std::vector<Aabb> boxBounds;     ///< AABB of each box's 8 nodes
+    // Flat per-vertex state.
+    std::vector<Vec3> vertices;
+
+    std::map<std::string, std::shared_ptr<const BodyModel>> modelCache;
+    Profile profile;
+    uint64_t frame = 0;
+
+    CollisionState collision;
+    std::vector<ThreadScratch> scratch; ///< one per worker
+
+    const BodyRecord* find(BodyId id) const {
+        if (id.index >= slots.size()) return nullptr;
+        const Slot& s = slots[id.index];
+        if (s.dense == UINT32_MAX || s.generation != id.generation) return nullptr;
+        return &bodies[s.dense];
+    }
+    BodyRecord* find(BodyId id) {
+        return const_cast<BodyRecord*>(static_cast<const WorldData*>(this)->find(id));
+    }
+};
+
+} // namespace ffd::detail
