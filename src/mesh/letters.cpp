@@ -7,10 +7,11 @@
 //
 // Pipeline: FreeType outline -> contours sampled at a uniform spacing h -> GLU tessellation
 // (nonzero winding, so holes and overlapping contours come out right) -> Delaunay flips ->
-// interior points on a triangular lattice of spacing h, kept clear of the outline -> a few
-// passes of guarded Laplacian smoothing -> front and back caps joined by walls with rings every
-// ~h along the depth. One spacing everywhere keeps the triangles near equilateral; h is chosen
-// so that the alphabet's average matches the paper's counts.
+// interior points on a triangular lattice of spacing h, kept clear of the outline -> one pass of
+// guarded Laplacian smoothing (it evens out the band where the lattice meets the outline) ->
+// front and back caps joined by walls with rings at most h apart along the depth. One spacing
+// everywhere keeps the triangles near equilateral; h is chosen so that the alphabet's average
+// matches the paper's counts.
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
 
@@ -83,13 +84,17 @@ std::string describe(char c) {
     return buf;
 }
 
+// Throws unless 0 < value <= maximum (and finite).
 void checkSetting(float value, float maximum, const char* field) {
-    if (!(value > 0.0f) || !std::isfinite(value) || value > maximum) {
-        char buf[160];
+    if (value > 0.0f && std::isfinite(value) && value <= maximum) return;
+    char buf[160];
+    if (std::isfinite(maximum))
         std::snprintf(buf, sizeof buf, "value %g is out of range (expected 0 < value <= %g)",
                       double(value), double(maximum));
-        throw InputError(field, buf);
-    }
+    else
+        std::snprintf(buf, sizeof buf, "value %g is out of range (expected a positive number)",
+                      double(value));
+    throw InputError(field, buf);
 }
 
 // ---- the glyph outline ------------------------------------------------------------------------
@@ -391,7 +396,7 @@ public:
 
     // Moves each interior vertex towards the centroid of its neighbours, refusing any move that
     // would fold a triangle, then restores the Delaunay property.
-    void smooth(int passes, std::vector<bool> onOutline) {
+    void smooth(int passes, const std::vector<bool>& onOutline) {
         for (int pass = 0; pass < passes; ++pass) {
             std::vector<std::vector<uint32_t>> incident(points.size());
             for (size_t t = 0; t < tris.size(); ++t)
@@ -474,9 +479,9 @@ private:
         const P2 pa = points[a], pb = points[b], pc = points[c], pd = points[d];
         // The quad a-d-b-c must be strictly convex for the other diagonal to be inside it.
         if (orient(pc, pa, pd) <= 0 || orient(pd, pb, pc) <= 0) return false;
-        // Delaunay test as "the angles at c and d sum to more than pi", i.e. sin(C + D) < 0,
-        // from cross and dot products (Cline and Renka's form): no trigonometry, and a zero-area
-        // triangle with c inside segment ab (angle pi) is flipped as it should be.
+        // Delaunay test "the angles at c and d sum to more than pi", as sin(C + D) < 0 from cross
+        // and dot products: no trigonometry, and a zero-area triangle with c inside segment ab
+        // (angle pi) is flipped as it should be.
         const P2 ca = pa - pc, cb = pb - pc, db = pb - pd, da = pa - pd;
         const double sinSum = cross(ca, cb) * dot(db, da) + dot(ca, cb) * cross(db, da);
         const double scale = std::sqrt(dot(ca, ca) * dot(cb, cb) * dot(db, db) * dot(da, da));
@@ -612,7 +617,7 @@ std::optional<CapTriangulation> triangulateCap(const std::vector<std::vector<P2>
         }
     }
     onOutline.resize(cap.points.size(), false);
-    cap.smooth(kSmoothingPasses, std::move(onOutline));
+    cap.smooth(kSmoothingPasses, onOutline);
     if (!(cap.minOrientation() > 0)) throw fail("refinement produced a zero-area triangle");
     return cap;
 }
