@@ -35,7 +35,7 @@ enum class CollisionMode : uint8_t {
 /// The lattice dynamics of a body.
 enum class DynamicsModel : uint8_t {
     ShapeMatching, ///< lattice shape matching (FastLSM)
-    MassSpring,    ///< springs along lattice edges and diagonals (XPBD)
+    MassSpring,    ///< springs along lattice edges and diagonals (implicit Euler)
 };
 
 const char* toString(CollisionMode mode);
@@ -58,19 +58,19 @@ struct BodyId {
 struct BodySettings {
     LatticeSettings lattice;
     DynamicsModel model = DynamicsModel::ShapeMatching;
-    int regionHalfWidth = 1;      ///< shape matching region half-width w, 1..4 (larger = stiffer)
-    float stiffness = 1.0f;       ///< shape matching alpha, (0, 1]
-    float youngsModulus = 2e5f;   ///< mass-spring: Pa, springs get k = E * rest length
-    int springIterations = 4;     ///< mass-spring: XPBD iterations per substep
-    float density = 1000.0f;      ///< kg/m^3, used when mass is 0
-    float mass = 0.0f;            ///< kg; 0 = density * volume (mesh volume, or lattice volume)
-    float damping = 10.0f;        ///< 1/s, rate at which non-rigid motion is removed
-    float friction = 0.5f;        ///< Coulomb coefficient
-    float restitution = 0.0f;     ///< normal restitution, [0, 1]
-    Vec3 position;                ///< the mesh's origin is placed here
-    Quat rotation;                ///< and the mesh rotated about it
-    Vec3 velocity;                ///< initial linear velocity, m/s
-    Vec3 angularVelocity;         ///< initial angular velocity about `position`, rad/s
+    int regionHalfWidth = 1;    ///< shape matching region half-width w, 1..4 (larger = stiffer)
+    float stiffness = 1.0f;     ///< shape matching alpha, (0, 1]
+    float youngsModulus = 2e5f; ///< mass-spring: Pa, springs get k = E * rest length
+    int springIterations = 20;  ///< mass-spring: conjugate-gradient iterations at most
+    float density = 1000.0f;    ///< kg/m^3, used when mass is 0
+    float mass = 0.0f;          ///< kg; 0 = density * volume (mesh volume, or lattice volume)
+    float damping = 10.0f;      ///< 1/s, rate at which non-rigid motion is removed
+    float friction = 0.5f;      ///< Coulomb coefficient
+    float restitution = 0.0f;   ///< normal restitution, [0, 1]
+    Vec3 position;              ///< the mesh's origin is placed here
+    Quat rotation;              ///< and the mesh rotated about it
+    Vec3 velocity;              ///< initial velocity of the centre of mass, m/s
+    Vec3 angularVelocity;       ///< initial angular velocity about the centre of mass, rad/s
 };
 
 /// World-wide settings.
@@ -78,14 +78,14 @@ struct WorldSettings {
     float frameStep = 1.0f / 60.0f; ///< seconds of simulated time per step() call
     int substeps = 2;               ///< dynamics + collision passes per frame
     Vec3 gravity{0.0f, -9.81f, 0.0f};
-    bool floor = true;              ///< an infinite plane y = floorHeight, normal +y
+    bool floor = true; ///< an infinite plane y = floorHeight, normal +y
     float floorHeight = 0.0f;
     CollisionMode mode = CollisionMode::Enhanced;
-    float contactSkin = 0.05f;      ///< contact margin as a fraction of the cell size
-    int solverIterations = 4;       ///< Gauss-Seidel iterations over contacts per substep
-    int threads = 1;                ///< worker threads for per-body stages (0 = all cores)
-    bool meshUpdate = true;         ///< update embedded mesh vertices at the end of each frame
-    int sweepThreshold = 64;        ///< bodies above which sphere pairs use sort-and-sweep
+    float contactSkin = 0.05f; ///< contact margin as a fraction of the cell size
+    int solverIterations = 4;  ///< Gauss-Seidel iterations over contacts per substep
+    int threads = 1;           ///< worker threads for per-body stages (0 = all cores)
+    bool meshUpdate = true;    ///< update embedded mesh vertices at the end of each frame
+    int sweepThreshold = 64;   ///< bodies above which sphere pairs use sort-and-sweep
 };
 
 /// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of
@@ -99,13 +99,13 @@ struct Profile {
     double meshUpdate = 0;      ///< embedded mesh vertices
     double total = 0;
 
-    int candidatePairs = 0;     ///< object pairs passed to the spatial hash (last substep)
-    int potentialPairs = 0;     ///< node/box pairs tested in the narrow phase (last substep)
-    int contacts = 0;           ///< object contacts (last substep)
-    int floorContacts = 0;      ///< floor contacts (last substep)
-    float maxPenetration = 0;   ///< deepest contact violation left after the response (a node
-                                ///< inside another object or below the floor), metres, over
-                                ///< the frame's substeps
+    int candidatePairs = 0;   ///< object pairs passed to the spatial hash (last substep)
+    int potentialPairs = 0;   ///< node/box pairs tested in the narrow phase (last substep)
+    int contacts = 0;         ///< object contacts (last substep)
+    int floorContacts = 0;    ///< floor contacts (last substep)
+    float maxPenetration = 0; ///< deepest contact violation left after the response (a node
+                              ///< inside another object or below the floor), metres, over
+                              ///< the frame's substeps
 };
 
 /// Rest-pose statistics of a body's shared model.

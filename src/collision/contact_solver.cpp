@@ -37,8 +37,10 @@ void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, V
     }
 }
 
-void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x,
-                           std::span<const float> invMass, int iterations) {
+void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
+                           std::span<const float> invMass, float dt, int iterations) {
+    const float invDt = 1.0f / dt;
+    for (Contact& c : contacts) c.positionImpulse = 0;
     for (int it = 0; it < iterations; ++it)
         for (Contact& c : contacts) {
             const Vec3 pa = blend(c.a, x);
@@ -48,8 +50,13 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x,
             const float W = c.invMassA + c.invMassB;
             if (!(W > 0)) continue;
             const float lambda = -C / W;
+            c.positionImpulse += lambda * invDt;
             push(c.a, x, invMass, c.normal * lambda);
-            if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
+            push(c.a, v, invMass, c.normal * (lambda * invDt));
+            if (c.hasB) {
+                push(c.b, x, invMass, c.normal * -lambda);
+                push(c.b, v, invMass, c.normal * (-lambda * invDt));
+            }
         }
 }
 
@@ -63,9 +70,9 @@ float residualPenetration(std::span<const Contact> contacts, std::span<const Vec
     return deepest;
 }
 
-void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
-                            std::span<Vec3> v, std::span<const float> invMass, float dt,
-                            float bounceThreshold, int iterations) {
+void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
+                            std::span<const float> invMass, float dt, float bounceThreshold,
+                            int iterations) {
     for (Contact& c : contacts) {
         const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
@@ -95,7 +102,7 @@ void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x
             if (c.friction > 0) {
                 const Vec3 oldT = c.tangentImpulse;
                 Vec3 t = oldT - vt / W;
-                const float limit = c.friction * c.normalImpulse;
+                const float limit = c.friction * (c.positionImpulse + c.normalImpulse);
                 const float tl = length(t);
                 if (tl > limit) t = t * (limit / tl);
                 c.tangentImpulse = t;

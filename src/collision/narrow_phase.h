@@ -31,8 +31,8 @@ BoxPlanes boxPlanes(const Vec3 nodes[8]);
 /// Result of a node/box test.
 struct NodeBoxHit {
     bool inside = false;
-    int face = -1;       ///< face whose plane gives the contact normal
-    float distance = 0;  ///< signed distance to that face (negative = penetrating)
+    int face = -1;      ///< face whose plane gives the contact normal
+    float distance = 0; ///< signed distance to that face (negative = penetrating)
 };
 
 /// Tests node p against the box (its 8 nodes, their AABB and its outside-face mask).

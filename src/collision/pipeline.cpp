@@ -12,7 +12,9 @@ namespace ffd::detail {
 
 namespace {
 
-float skinOf(const WorldData& w, const BodyRecord& b) { return w.settings.contactSkin * b.cellSize; }
+float skinOf(const WorldData& w, const BodyRecord& b) {
+    return w.settings.contactSkin * b.cellSize;
+}
 
 float combineFriction(const BodyRecord& a, const BodyRecord& b) {
     return std::sqrt(a.settings.friction * b.settings.friction);
@@ -156,8 +158,10 @@ void sphereTest(WorldData& w) {
         r.sphereRadius = std::sqrt(r2);
     }
     CollisionState& s = w.collision;
-    if (int(w.bodies.size()) > w.settings.sweepThreshold) sphereTestSweep(w, s.pairs);
-    else sphereTestAllPairs(w, s.pairs);
+    if (int(w.bodies.size()) > w.settings.sweepThreshold)
+        sphereTestSweep(w, s.pairs);
+    else
+        sphereTestAllPairs(w, s.pairs);
 
     // Partners of each body (CSR), for the hash phase's pair check.
     const size_t n = w.bodies.size();
@@ -210,7 +214,7 @@ float floorCollision(WorldData& w, float dt) {
     w.profile.floorContacts = int(s.floorContacts.size());
     if (s.floorContacts.empty()) return deepest;
     const float bounce = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.floorContacts, w.x, w.invMass, w.settings.solverIterations);
+    solveContactPositions(s.floorContacts, w.x, w.v, w.invMass, dt, w.settings.solverIterations);
     solveContactVelocities(s.floorContacts, w.x, w.v, w.invMass, dt, bounce,
                            w.settings.solverIterations);
     return residualPenetration(s.floorContacts, w.x);
@@ -227,11 +231,11 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node) {
         ++outPotential;
         const BodyRecord& B = w.bodies[bodyB];
-        const NodeBoxHit hit =
-            testNodeInBox(s.planes[box], w.boxBounds[box],
-                          B.model->lattice.boxes[box - B.firstBox].outsideFaces, w.nodes[node],
-                          skinOf(w, B));
-        if (hit.inside) out.push_back(makeObjectContact(w, bodyA, node, bodyB, box, hit, s.planes[box]));
+        const NodeBoxHit hit = testNodeInBox(s.planes[box], w.boxBounds[box],
+                                             B.model->lattice.boxes[box - B.firstBox].outsideFaces,
+                                             w.nodes[node], skinOf(w, B));
+        if (hit.inside)
+            out.push_back(makeObjectContact(w, bodyA, node, bodyB, box, hit, s.planes[box]));
     };
     auto planesOf = [&](const BodyRecord& B) {
         for (uint32_t k = B.firstBox; k < B.firstBox + B.boxCount; ++k)
@@ -246,7 +250,8 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                 for (uint32_t a = 0; a < n; ++a) {
                     if (a == b) continue;
                     const BodyRecord& A = w.bodies[a];
-                    for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8; ++node)
+                    for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
+                         ++node)
                         testBox(b, box, a, node);
                 }
         }
@@ -317,7 +322,7 @@ float objectCollision(WorldData& w, float dt) {
     s.all.insert(s.all.end(), s.objectContacts.begin(), s.objectContacts.end());
     s.all.insert(s.all.end(), s.floorContacts.begin(), s.floorContacts.end());
     const float bounce = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.invMass, w.settings.solverIterations);
+    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, w.settings.solverIterations);
     solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, bounce, w.settings.solverIterations);
     return residualPenetration(s.all, w.x);
 }

@@ -63,8 +63,8 @@ private:
     };
 
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
-        const uint32_t h = (uint32_t(i) * 73856093u) ^ (uint32_t(j) * 19349663u) ^
-                           (uint32_t(k) * 83492791u);
+        const uint32_t h =
+            (uint32_t(i) * 73856093u) ^ (uint32_t(j) * 19349663u) ^ (uint32_t(k) * 83492791u);
         return h % uint32_t(buckets_.size());
     }
 

@@ -1,14 +1,11 @@
 // Mass-spring dynamics on the FFD lattice's particles, the second model beside shape matching.
 //
-// Reference: M. Macklin, M. Mueller, N. Chentanez, "XPBD: Position-Based Simulation of
-// Compliant Constrained Dynamics", MIG 2016. Each spring is a distance constraint with
-// compliance 1/k. The springs project the current positions to goal positions (XPBD
-// Gauss-Seidel), and the particles move towards them exactly as in shape matching:
-//   v += (g - x) / dt + dt a;  x += dt v.
-// For soft springs the goal displacement is dt^2 k C / m (Hooke's law, explicit); for stiff ones
-// it saturates at the rest length, so the step is stable for any stiffness. Using the same
-// update as shape matching gives resting contact the same equilibrium (goals balance gravity)
-// and lets the collision response treat both models alike.
+// Reference: D. Baraff, A. Witkin, "Large Steps in Cloth Simulation", SIGGRAPH 1998 (implicit
+// Euler: (M - dt^2 K) dv = dt (f + dt K v), solved by conjugate gradients). Implicit Euler is
+// stable at the frame step for any stiffness and, unlike position projection, has the true
+// force equilibrium, so a body rests on the floor with its springs balancing gravity. The
+// spring Jacobian's transverse term is dropped under compression so that the system stays
+// symmetric positive definite (the usual definiteness fix).
 //
 // Springs: structural (cell edges, length h), shear (face diagonals, sqrt(2) h), body diagonals
 // (sqrt(3) h) and bending (two cells along an axis, 2h, through an existing middle particle).
@@ -26,7 +23,7 @@ enum class SpringKind : uint8_t { Structural, Shear, Diagonal, Bending };
 
 struct Spring {
     uint32_t a = 0, b = 0;
-    float rest = 0;     ///< metres
+    float rest = 0;           ///< metres
     float stiffnessScale = 1; ///< k = E * rest * stiffnessScale
     SpringKind kind = SpringKind::Structural;
 };
@@ -42,23 +39,27 @@ struct MassSpringStep {
     float youngsModulus = 2e5f; ///< Pa
     float damping = 0.0f;       ///< fraction of the non-rigid velocity removed per substep
     Vec3 acceleration;
-    int iterations = 4;
+    int iterations = 20;     ///< conjugate-gradient iterations at most
+    float tolerance = 1e-4f; ///< relative residual at which CG stops
 };
 
 struct MassSpringScratch {
-    std::vector<Vec3> goal;
-    std::vector<float> lambda, mass;
+    std::vector<Mat3> jacobian; ///< per spring, dF_a/dx_a
+    std::vector<Vec3> force, rhs, dv, r, z, p, q, diag;
+    std::vector<float> mass;
 };
 
-/// One substep: goals by projecting the springs, damp non-rigid motion, integrate.
+/// One implicit Euler substep: springs and gravity solved together, rigid-motion-preserving
+/// damping, x += dt v. Returns the CG iterations used.
 /// invMass: #P inverse particle masses (1/kg); x, v: #P.
-void stepMassSpring(const MassSpringModel& model, const MassSpringStep& step,
-                    std::span<const float> invMass, std::span<Vec3> x, std::span<Vec3> v,
-                    MassSpringScratch& scratch);
+int stepMassSpring(const MassSpringModel& model, const MassSpringStep& step,
+                   std::span<const float> invMass, std::span<Vec3> x, std::span<Vec3> v,
+                   MassSpringScratch& scratch);
 
-/// Removes `fraction` of every particle's velocity relative to the body's best rigid motion
-/// (linear and angular momentum kept exactly). mass: #P particle masses.
-void dampNonRigidVelocity(std::span<const float> mass, std::span<const Vec3> x,
-                          std::span<Vec3> v, float fraction);
+/// Adds to ioVelocityChange `fraction` of every particle's velocity relative to the body's best
+/// rigid motion, negated (so linear and angular momentum are unchanged). mass, x, v,
+/// ioVelocityChange: #P.
+void addNonRigidDamping(std::span<const float> mass, std::span<const Vec3> x,
+                        std::span<const Vec3> v, float fraction, std::span<Vec3> ioVelocityChange);
 
 } // namespace ffd::detail

@@ -1,21 +1,34 @@
-// Rotational part of a 3x3 matrix for shape matching.
+// Rotational part of a 3x3 matrix for shape matching: the rotation R maximising tr(R^T A)
+// (the polar factor of A when A is non-singular with det > 0).
 //
-// Reference: M. Mueller, J. Bender, N. Chentanez, M. Macklin, "A Robust Method to Extract the
-// Rotational Part of Deformations", MIG 2016. The rotation q is improved by turning it about
-// omega = sum_k r_k x a_k / |sum_k r_k . a_k| (r_k, a_k the columns of R(q) and A), which
-// climbs tr(R^T A). Unlike the polar decomposition through A^T A it never divides by a
-// singular value, so flat (rank 2), degenerate (rank 1 or 0) and reflected (det < 0) matrices
-// still give a proper rotation, and warm-starting from the last step's q makes one or two
-// iterations enough.
+// References: M. Mueller, J. Bender, N. Chentanez, M. Macklin, "A Robust Method to Extract the
+// Rotational Part of Deformations", MIG 2016 (iterate on a unit quaternion, so that flat,
+// degenerate and reflected matrices still give a proper rotation, and warm-start from the last
+// step); B. K. P. Horn, "Closed-form solution of absolute orientation using unit quaternions",
+// JOSA A 4(4), 1987 (the exact answer as the top eigenvector of a symmetric 4x4 matrix).
+//
+// refineRotation improves a warm-started q by Newton steps on f(q) = tr(R(q)^T A): in q's frame
+// M = R^T A, gradient g = (M32 - M23, M13 - M31, M21 - M12), Hessian H = tr(M) I - sym(M). Near
+// the optimum H is positive definite and convergence is quadratic; elsewhere it takes Mueller
+// et al.'s step g / |tr M| (which alone converges only linearly: about a third of the error is
+// left per iteration even for an isotropic region, enough to make a spinning body lag its
+// rotation and lose energy). closestRotation is exact and used when the warm start is poor.
 #pragma once
 
 #include "ffdaabb/math.h"
 
 namespace ffd::detail {
 
-/// Improves the unit quaternion ioRotation towards the rotation R maximising tr(R^T A).
-/// Stops after maxIterations or when the correction angle falls below `tolerance` radians.
-/// Returns the number of iterations used.
-int extractRotation(const Mat3& A, Quat& ioRotation, int maxIterations, float tolerance = 1e-6f);
+/// Improves ioRotation towards the rotation maximising tr(R^T A) by at most maxIterations
+/// steps, stopping when a step is below `tolerance` radians. Returns the last step's angle.
+float refineRotation(const Mat3& A, Quat& ioRotation, int maxIterations, float tolerance = 1e-6f);
+
+/// The rotation maximising tr(R^T A), exactly (Horn's quaternion method, Jacobi eigen-solve).
+/// For A = 0 returns the identity.
+Quat closestRotation(const Mat3& A);
+
+/// refineRotation, falling back on closestRotation when the warm start was too far to converge
+/// within maxIterations.
+void extractRotation(const Mat3& A, Quat& ioRotation, int maxIterations);
 
 } // namespace ffd::detail

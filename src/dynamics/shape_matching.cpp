@@ -14,7 +14,8 @@ namespace ffd::detail {
 namespace {
 
 // First summation: per region r, sums over its members j of
-//   m~ x (3) | m~ x x0^T (9, row-major) | m~ v (3) | m~ x cross v (3) | m~ x x^T (6: xx yy zz xy xz yz)
+//   m~ x (3) | m~ x x0^T (9, row-major) | m~ v (3) | m~ x cross v (3) | m~ x x^T (6: xx yy zz xy xz
+//   yz)
 constexpr int kFirstChannels = 24;
 // Second summation: per particle i, sums over the regions r containing it of
 //   R_r (9, row-major) | t_r (3) | omega_r (3) | u_r = v_cm - omega x c (3)
@@ -79,7 +80,8 @@ RegionFrame regionFrame(const ShapeMatchingModel& model, uint32_t r, const float
     // A region that is flat or a line has a singular inertia; a small isotropic term keeps
     // the solve well posed and only damps the (ill-defined) spin about the degenerate axis.
     const float reg = 1e-4f * trace + 1e-30f;
-    const Mat3 I{{{trace - xx + reg, -xy, -xz}, {-xy, trace - yy + reg, -yz}, {-xz, -yz, trace - zz + reg}}};
+    const Mat3 I{
+        {{trace - xx + reg, -xy, -xz}, {-xy, trace - yy + reg, -yz}, {-xz, -yz, trace - zz + reg}}};
     Mat3 Iinv;
     f.omega = inverse(I, Iinv) ? Iinv * L : Vec3{};
     f.u = vcm - cross(f.omega, c);
@@ -108,9 +110,9 @@ void firstChannels(float* out, size_t stride, float m, Vec3 xr, Vec3 x0, Vec3 ve
 }
 
 // Goals (relative to ref) and rigid velocities of every particle. outGoal/outRigid: #P.
-void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x,
-                  std::span<const Vec3> v, Vec3 ref, std::span<Quat> rotations, int iterations,
-                  bool wantVelocity, ShapeMatchingScratch& s, bool naive) {
+void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                  Vec3 ref, std::span<Quat> rotations, int iterations, bool wantVelocity,
+                  ShapeMatchingScratch& s, bool naive) {
     const size_t P = model.particlePoint.size();
     s.goal.resize(P);
     s.rigidVelocity.resize(P);
@@ -274,16 +276,33 @@ void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep&
     const bool damp = step.damping > 0;
     computeGoals(model, x, v, ref, rotations, step.rotationIterations, damp, s, naive);
     const float k = step.stiffness / step.dt;
+    // Internal velocity changes (goal pull and damping); stored in s.goal, which is not needed
+    // past this point. Goal and position are both taken relative to ref, so that rounding
+    // scales with the body's size rather than its distance from the origin.
+    for (size_t i = 0; i < x.size(); ++i) {
+        Vec3 dvi = (s.goal[i] - (x[i] - ref)) * k;
+        if (damp) dvi += (s.rigidVelocity[i] - v[i]) * step.damping;
+        s.goal[i] = dvi;
+    }
+    removeMomentumDrift(model.massFraction, std::span<Vec3>(s.goal.data(), x.size()));
     const Vec3 dv = step.acceleration * step.dt;
     for (size_t i = 0; i < x.size(); ++i) {
-        Vec3 vi = v[i];
-        if (damp) vi += (s.rigidVelocity[i] - vi) * step.damping;
-        // Goal minus position, both relative to ref, so that rounding scales with the body's
-        // size rather than its distance from the origin.
-        vi += (s.goal[i] - (x[i] - ref)) * k + dv;
-        v[i] = vi;
-        x[i] += vi * step.dt;
+        v[i] += s.goal[i] + dv;
+        x[i] += v[i] * step.dt;
     }
+}
+
+void removeMomentumDrift(std::span<const float> mass, std::span<Vec3> ioVelocityChange) {
+    double p[3] = {0, 0, 0}, m = 0;
+    for (size_t i = 0; i < ioVelocityChange.size(); ++i) {
+        const Vec3 d = ioVelocityChange[i];
+        p[0] += double(mass[i]) * double(d.x);
+        p[1] += double(mass[i]) * double(d.y);
+        p[2] += double(mass[i]) * double(d.z);
+        m += double(mass[i]);
+    }
+    const Vec3 mean{float(p[0] / m), float(p[1] / m), float(p[2] / m)};
+    for (Vec3& d : ioVelocityChange) d -= mean;
 }
 
 } // namespace ffd::detail

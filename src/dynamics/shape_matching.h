@@ -47,16 +47,16 @@ ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int halfWidth);
 /// Per-substep parameters.
 struct ShapeMatchingStep {
     float dt = 1.0f / 120.0f;
-    float stiffness = 1.0f;      ///< alpha in (0,1]
-    float damping = 0.0f;        ///< fraction of each region's non-rigid velocity removed, [0,1]
-    Vec3 acceleration;           ///< gravity + external force / mass, m/s^2
-    int rotationIterations = 2;  ///< warm-started polar iterations per region
+    float stiffness = 1.0f;     ///< alpha in (0,1]
+    float damping = 0.0f;       ///< fraction of each region's non-rigid velocity removed, [0,1]
+    Vec3 acceleration;          ///< gravity + external force / mass, m/s^2
+    int rotationIterations = 2; ///< warm-started polar iterations per region
 };
 
 /// Reusable buffers (one per thread).
 struct ShapeMatchingScratch {
-    std::vector<float> a, b;       ///< channel-major padded grids
-    std::vector<float> region;     ///< per-region values between the passes
+    std::vector<float> a, b;   ///< channel-major padded grids
+    std::vector<float> region; ///< per-region values between the passes
     std::vector<Vec3> goal, rigidVelocity;
 };
 
@@ -73,6 +73,10 @@ void shapeMatchingGoals(const ShapeMatchingModel& model, std::span<const Vec3> x
                         std::span<Quat> rotations, int rotationIterations,
                         ShapeMatchingScratch& scratch, std::span<Vec3> outGoals,
                         bool naive = false);
+
+/// Internal forces change no momentum; this removes the float rounding that would make them:
+/// subtracts the mass-weighted mean from ioVelocityChange (#P), the sums taken in double.
+void removeMomentumDrift(std::span<const float> mass, std::span<Vec3> ioVelocityChange);
 
 /// Mass fraction of each particle: each cell's share 1/C split equally among its 8 corners.
 std::vector<float> cornerMassFractions(const Lattice& lattice);

@@ -22,10 +22,14 @@ using detail::WorldData;
 
 const char* toString(CollisionMode mode) {
     switch (mode) {
-    case CollisionMode::Enhanced: return "enhanced";
-    case CollisionMode::Previous: return "previous";
-    case CollisionMode::Brute: return "brute";
-    case CollisionMode::None: return "none";
+    case CollisionMode::Enhanced:
+        return "enhanced";
+    case CollisionMode::Previous:
+        return "previous";
+    case CollisionMode::Brute:
+        return "brute";
+    case CollisionMode::None:
+        return "none";
     }
     return "?";
 }
@@ -63,7 +67,8 @@ std::string str(double v) {
 
 void requireRange(const char* field, double value, double lo, double hi, const char* expected) {
     if (!(value >= lo && value <= hi))
-        throw InputError(field, "value " + str(value) + " is out of range (expected " + expected + ")");
+        throw InputError(field,
+                         "value " + str(value) + " is out of range (expected " + expected + ")");
 }
 
 void requireFinite(const char* field, Vec3 v) {
@@ -110,8 +115,8 @@ std::shared_ptr<const BodyModel> buildModel(const TriangleMesh& mesh, const Body
     }
     const double meshVolume = isClosed(mesh) ? signedVolume(mesh) : 0.0;
     const double h = model->lattice.cellSize;
-    model->volume = meshVolume > 0 ? float(meshVolume)
-                                   : float(double(model->lattice.cellCount()) * h * h * h);
+    model->volume =
+        meshVolume > 0 ? float(meshVolume) : float(double(model->lattice.cellCount()) * h * h * h);
     return model;
 }
 
@@ -152,7 +157,8 @@ void validate(const BodySettings& s) {
     const Quat& q = s.rotation;
     const float n = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
     if (!(std::isfinite(n) && n > 1e-12f))
-        throw InputError("body.rotation", "rotation is not a valid quaternion (zero or non-finite)");
+        throw InputError("body.rotation",
+                         "rotation is not a valid quaternion (zero or non-finite)");
 }
 
 World::World(const WorldSettings& settings) : data_(std::make_unique<WorldData>()) {
@@ -188,10 +194,13 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     r.vertexCount = uint32_t(mesh.positions.size());
 
     const Mat3 R = toMat3(r.settings.rotation);
+    Vec3 centre{};
+    for (uint32_t p = 0; p < r.particleCount; ++p)
+        centre += (R * L.restParticles[p]) * model->massFraction[p];
     for (uint32_t p = 0; p < r.particleCount; ++p) {
         const Vec3 arm = R * L.restParticles[p];
         w.x.push_back(arm + settings.position);
-        w.v.push_back(settings.velocity + cross(settings.angularVelocity, arm));
+        w.v.push_back(settings.velocity + cross(settings.angularVelocity, arm - centre));
         w.invMass.push_back(1.0f / (r.mass * model->massFraction[p]));
         w.particleForce.push_back({});
         w.rotations.push_back(r.settings.rotation);
@@ -250,12 +259,17 @@ bool World::removeBody(BodyId id) {
     return true;
 }
 
-bool World::isValid(BodyId id) const { return data_->find(id) != nullptr; }
-size_t World::bodyCount() const { return data_->bodies.size(); }
+bool World::isValid(BodyId id) const {
+    return data_->find(id) != nullptr;
+}
+size_t World::bodyCount() const {
+    return data_->bodies.size();
+}
 
 std::vector<BodyId> World::bodies() const {
     std::vector<BodyId> ids;
-    for (const BodyRecord& r : data_->bodies) ids.push_back({r.slot, data_->slots[r.slot].generation});
+    for (const BodyRecord& r : data_->bodies)
+        ids.push_back({r.slot, data_->slots[r.slot].generation});
     return ids;
 }
 
@@ -263,9 +277,9 @@ namespace {
 
 const BodyRecord& get(const WorldData& w, BodyId id) {
     const BodyRecord* r = w.find(id);
-    if (!r) throw InputError("body", "stale or invalid body handle (index " +
-                                         std::to_string(id.index) + ", generation " +
-                                         std::to_string(id.generation) + ")");
+    if (!r)
+        throw InputError("body", "stale or invalid body handle (index " + std::to_string(id.index) +
+                                     ", generation " + std::to_string(id.generation) + ")");
     return *r;
 }
 
@@ -273,9 +287,10 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
 template <class F>
 void forEachBody(WorldData& w, F&& fn) {
     const size_t n = w.bodies.size();
-    const int threads = w.settings.threads == 0 ? int(tbb::info::default_concurrency())
-                                                : w.settings.threads;
-    if (w.scratch.size() < size_t(std::max(threads, 1))) w.scratch.resize(size_t(std::max(threads, 1)));
+    const int threads =
+        w.settings.threads == 0 ? int(tbb::info::default_concurrency()) : w.settings.threads;
+    if (w.scratch.size() < size_t(std::max(threads, 1)))
+        w.scratch.resize(size_t(std::max(threads, 1)));
     if (threads <= 1 || n < 2) {
         fn(size_t(0), n, w.scratch[0]);
         return;
@@ -285,10 +300,11 @@ void forEachBody(WorldData& w, F&& fn) {
     if (!arena || arena->max_concurrency() != threads)
         arena = std::make_unique<tbb::task_arena>(threads);
     arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& r) {
-            const int slot = tbb::this_task_arena::current_thread_index();
-            fn(r.begin(), r.end(), w.scratch[size_t(slot) % w.scratch.size()]);
-        });
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              const int slot = tbb::this_task_arena::current_thread_index();
+                              fn(r.begin(), r.end(), w.scratch[size_t(slot) % w.scratch.size()]);
+                          });
     });
 }
 
@@ -414,8 +430,12 @@ std::span<const Vec3> World::boxNodes(BodyId id) const {
     return {data_->nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8};
 }
 
-const Lattice& World::lattice(BodyId id) const { return get(*data_, id).model->lattice; }
-Aabb World::bounds(BodyId id) const { return get(*data_, id).bounds; }
+const Lattice& World::lattice(BodyId id) const {
+    return get(*data_, id).model->lattice;
+}
+Aabb World::bounds(BodyId id) const {
+    return get(*data_, id).bounds;
+}
 
 void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
     const BodyRecord& r = get(*data_, id);
@@ -461,7 +481,9 @@ BodyInfo World::info(BodyId id) const {
     return i;
 }
 
-const BodySettings& World::settings(BodyId id) const { return get(*data_, id).settings; }
+const BodySettings& World::settings(BodyId id) const {
+    return get(*data_, id).settings;
+}
 
 void World::applyForce(BodyId id, Vec3 force) {
     requireFinite("force", force);
@@ -480,7 +502,8 @@ void World::applyParticleForce(BodyId id, uint32_t particle, Vec3 force) {
     requireFinite("force", force);
     const BodyRecord& r = get(*data_, id);
     if (particle >= r.particleCount)
-        throw InputError("particle", "index " + std::to_string(particle) + " is out of range (body has " +
+        throw InputError("particle", "index " + std::to_string(particle) +
+                                         " is out of range (body has " +
                                          std::to_string(r.particleCount) + " particles)");
     data_->particleForce[r.firstParticle + particle] += force;
 }
@@ -527,7 +550,9 @@ void World::updateMesh(BodyId id) {
                    std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
 }
 
-const WorldSettings& World::settings() const { return data_->settings; }
+const WorldSettings& World::settings() const {
+    return data_->settings;
+}
 
 void World::setSettings(const WorldSettings& settings) {
     validate(settings);
@@ -540,8 +565,12 @@ void World::setMode(CollisionMode mode) {
     setSettings(s);
 }
 
-const Profile& World::profile() const { return data_->profile; }
-uint64_t World::frame() const { return data_->frame; }
+const Profile& World::profile() const {
+    return data_->profile;
+}
+uint64_t World::frame() const {
+    return data_->frame;
+}
 
 uint64_t World::stateHash() const {
     uint64_t h = 14695981039346656037ull;

@@ -17,7 +17,7 @@ namespace ffd::detail {
 
 /// Immutable data shared by every body made from the same mesh and model settings.
 struct BodyModel {
-    TriangleMesh mesh;               ///< rest mesh
+    TriangleMesh mesh; ///< rest mesh
     Lattice lattice;
     DynamicsModel dynamics = DynamicsModel::ShapeMatching;
     ShapeMatchingModel shapeMatching; ///< empty for mass-spring bodies
@@ -36,12 +36,12 @@ struct BodyRecord {
     uint32_t firstVertex = 0, vertexCount = 0;
     float mass = 0;
     float cellSize = 0;
-    Vec3 force;                         ///< accumulated for the next step
+    Vec3 force; ///< accumulated for the next step
     /// Velocities are stored at half steps (leapfrog): a body whose velocity was just set gets
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
-    Aabb bounds;                        ///< of the box nodes, from the last node update
-    Vec3 sphereCentre;                  ///< bounding sphere (enhanced mode)
+    Aabb bounds;       ///< of the box nodes, from the last node update
+    Vec3 sphereCentre; ///< bounding sphere (enhanced mode)
     float sphereRadius = 0;
 };
 
@@ -66,10 +66,10 @@ struct WorldData {
     std::vector<Vec3> x, v;
     std::vector<Vec3> particleForce; ///< external forces for the next step, N
     std::vector<float> invMass;
-    std::vector<Quat> rotations;     ///< warm start of each shape-matching region
+    std::vector<Quat> rotations; ///< warm start of each shape-matching region
     // Flat per-box / per-node state.
-    std::vector<Vec3> nodes;         ///< 8 per box
-    std::vector<Aabb> boxBounds;     ///< AABB of each box's 8 nodes
+    std::vector<Vec3> nodes;     ///< 8 per box
+    std::vector<Aabb> boxBounds; ///< AABB of each box's 8 nodes
     // Flat per-vertex state.
     std::vector<Vec3> vertices;
 
