@@ -16,6 +16,13 @@ float skinOf(const WorldData& w, const BodyRecord& b) {
     return w.settings.contactSkin * b.cellSize;
 }
 
+// Contact margin between a node of A and a box of B: B's skin plus how far the two can close
+// in one substep (speculative contacts: found before they touch, so the velocity solve can
+// stop them at the surface however fast they come).
+float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
+    return skinOf(w, b) + w.substep * (a.maxSpeed + b.maxSpeed);
+}
+
 float combineFriction(const BodyRecord& a, const BodyRecord& b) {
     return std::sqrt(a.settings.friction * b.settings.friction);
 }
@@ -65,9 +72,10 @@ void sortContacts(std::vector<Contact>& contacts) {
 bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
     const BodyRecord& a = w.bodies[i];
     const BodyRecord& b = w.bodies[j];
-    // The narrow phase accepts nodes up to one skin outside a box's node bounds: allow twice
-    // the larger skin (more than sqrt(3) skins) so the test stays conservative.
-    const float margin = 2.0f * std::fmax(skinOf(w, a), skinOf(w, b));
+    // The narrow phase accepts nodes up to one margin outside a box's node bounds, which is
+    // within sqrt(3) margins of the sphere: allow twice the larger margin so the test stays
+    // conservative and the modes find identical contacts.
+    const float margin = 2.0f * std::fmax(marginOf(w, a, b), marginOf(w, b, a));
     const float r = a.sphereRadius + b.sphereRadius + margin;
     return lengthSquared(a.sphereCentre - b.sphereCentre) < r * r;
 }
@@ -97,6 +105,10 @@ void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
         std::span<const Vec3> x(w.x.data() + r.firstParticle, r.particleCount);
         std::span<Vec3> nodes(w.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
         updateBoxNodes(L, x, nodes);
+        float speed2 = 0;
+        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+            speed2 = std::fmax(speed2, lengthSquared(w.v[i]));
+        r.maxSpeed = std::sqrt(speed2);
         Aabb body;
         for (uint32_t k = 0; k < r.boxCount; ++k) {
             Aabb box;
@@ -121,11 +133,13 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     const uint32_t n = uint32_t(w.bodies.size());
     std::vector<uint32_t>& order = w.collision.sweepOrder;
     order.resize(n);
-    float maxMargin = 0;
+    float maxSkin = 0, maxSpeed = 0;
     for (uint32_t i = 0; i < n; ++i) {
         order[i] = i;
-        maxMargin = std::fmax(maxMargin, 2.0f * skinOf(w, w.bodies[i]));
+        maxSkin = std::fmax(maxSkin, skinOf(w, w.bodies[i]));
+        maxSpeed = std::fmax(maxSpeed, w.bodies[i].maxSpeed);
     }
+    const float maxMargin = 2.0f * (maxSkin + 2.0f * w.substep * maxSpeed);
     auto lo = [&](uint32_t i) { return w.bodies[i].sphereCentre.x - w.bodies[i].sphereRadius; };
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
         const float la = lo(a), lb = lo(b);
@@ -187,7 +201,7 @@ float floorCollision(WorldData& w, float dt) {
     float deepest = 0;
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
-        const float skin = skinOf(w, r);
+        const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
         if (r.bounds.lo.y >= floorY + skin) continue;
         const Lattice& L = r.model->lattice;
         for (uint32_t k = 0; k < r.boxCount; ++k) {
@@ -280,10 +294,14 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     }
     // Each box of a candidate object visits the hash cells its node bounds (grown by the skin)
     // overlap and tests the nodes of the other objects it forms a candidate pair with.
+    float fastest = 0;
+    for (uint32_t b = 0; b < n; ++b)
+        if (isCandidate(b)) fastest = std::fmax(fastest, w.bodies[b].maxSpeed);
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
-        const float skin = skinOf(w, B);
+        // The largest margin any partner can need: the hash query must reach that far.
+        const float skin = skinOf(w, B) + w.substep * (B.maxSpeed + fastest);
         planesOf(B);
         const uint32_t* partners = enhanced ? &s.partners[s.partnerStart[b]] : nullptr;
         const uint32_t partnerCount = enhanced ? s.partnerStart[b + 1] - s.partnerStart[b] : 0;

@@ -105,9 +105,13 @@ Quat closestRotation(const Mat3& A) {
 }
 
 void extractRotation(const Mat3& A, Quat& q, int maxIterations) {
-    // A step still this large after the warm-started iterations means the warm start was far
-    // off (a teleport, a cold start, a violent deformation): solve exactly instead.
-    if (refineRotation(A, q, maxIterations) > 1e-2f) {
+    // One Newton step from the warm start; a second only when the first moved the rotation
+    // noticeably (Newton's error after it is about the square of that step).
+    float angle = refineRotation(A, q, 1);
+    if (angle > 2e-3f && maxIterations > 1) angle = refineRotation(A, q, maxIterations - 1);
+    // A step still this large means the warm start was far off (a teleport, a cold start, a
+    // violent deformation): solve exactly instead.
+    if (angle > 1e-2f) {
         q = closestRotation(A);
         refineRotation(A, q, 2);
     }

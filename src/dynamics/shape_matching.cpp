@@ -4,6 +4,7 @@
 // Dynamics", 2006 (rigid-motion-preserving damping, here per region).
 #include "dynamics/shape_matching.h"
 
+#include "dynamics/mass_spring.h"
 #include "dynamics/polar.h"
 #include "ffdaabb/error.h"
 
@@ -21,32 +22,38 @@ constexpr int kFirstChannels = 24;
 //   R_r (9, row-major) | t_r (3) | omega_r (3) | u_r = v_cm - omega x c (3)
 constexpr int kSecondChannels = 18;
 
-// out[c][g] = sum_{d=-w..w} in[c][g + d * stride] over the range where every term exists. The
-// grid carries w zeros on each side of every axis, so interior points never read past the
-// range, and what lands on pad points is never read back by a later pass at an interior point.
-void boxFilter(const float* in, float* out, size_t points, size_t stride, int w, int channels) {
-    const size_t reach = size_t(w) * stride;
-    if (points <= 2 * reach) return;
-    const size_t lo = reach, hi = points - reach;
-    for (int c = 0; c < channels; ++c) {
-        const float* src = in + size_t(c) * points;
-        float* dst = out + size_t(c) * points;
-        for (size_t g = lo; g < hi; ++g) dst[g] = src[g - reach];
-        for (int d = -w + 1; d <= w; ++d) {
-            const float* s = src + ptrdiff_t(d) * ptrdiff_t(stride);
-            for (size_t g = lo; g < hi; ++g) dst[g] += s[g];
-        }
-    }
+// One axis of the separable (2w+1)^3 box sum over the point grid, point-major: out[g][0..C) =
+// sum of in[g + d * stride][0..C) over the window's points inside the grid. The channel loop
+// has a compile-time length, so each neighbour costs a few SIMD adds.
+template <int C>
+void boxPass(const float* in, float* out, GridCoord dims, int axis, int w) {
+    const ptrdiff_t stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : ptrdiff_t(dims[0]) * dims[1]);
+    const int n = dims[axis];
+    size_t g = 0;
+    for (int z = 0; z < dims[2]; ++z)
+        for (int y = 0; y < dims[1]; ++y)
+            for (int x = 0; x < dims[0]; ++x, ++g) {
+                const int c = axis == 0 ? x : (axis == 1 ? y : z);
+                const int lo = std::max(-w, -c), hi = std::min(w, n - 1 - c);
+                float acc[C];
+                const float* self = in + g * C;
+                for (int k = 0; k < C; ++k) acc[k] = self[k];
+                for (int d = lo; d <= hi; ++d) {
+                    if (d == 0) continue;
+                    const float* other = in + (ptrdiff_t(g) + d * stride) * C;
+                    for (int k = 0; k < C; ++k) acc[k] += other[k];
+                }
+                float* o = out + g * C;
+                for (int k = 0; k < C; ++k) o[k] = acc[k];
+            }
 }
 
-// Separable (2w+1)^3 box sum of `channels` grids: scatter in a, result in b.
-void cubeSum(const ShapeMatchingModel& model, std::vector<float>& a, std::vector<float>& b,
-             int channels) {
-    const size_t points = model.paddedPointCount();
-    const size_t px = size_t(model.paddedDims[0]), pxy = px * size_t(model.paddedDims[1]);
-    boxFilter(a.data(), b.data(), points, 1, model.halfWidth, channels);
-    boxFilter(b.data(), a.data(), points, px, model.halfWidth, channels);
-    boxFilter(a.data(), b.data(), points, pxy, model.halfWidth, channels);
+// Cube sums of C channels: scattered input in a, result in b.
+template <int C>
+void cubeSum(const ShapeMatchingModel& model, std::vector<float>& a, std::vector<float>& b) {
+    boxPass<C>(a.data(), b.data(), model.pointDims, 0, model.halfWidth);
+    boxPass<C>(b.data(), a.data(), model.pointDims, 1, model.halfWidth);
+    boxPass<C>(a.data(), b.data(), model.pointDims, 2, model.halfWidth);
 }
 
 // Region values from the first sums: rotation, translation and rigid velocity.
@@ -146,45 +153,48 @@ void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x, std:
         return;
     }
 
-    const size_t G = model.paddedPointCount();
-    const int firstChannelsUsed = wantVelocity ? kFirstChannels : 12;
-    const int secondChannelsUsed = wantVelocity ? kSecondChannels : 12;
+    const size_t G = model.pointCount();
     s.a.resize(G * kFirstChannels);
     s.b.resize(G * kFirstChannels);
-    std::memset(s.a.data(), 0, G * size_t(firstChannelsUsed) * sizeof(float));
-    for (uint32_t j = 0; j < P; ++j)
-        firstChannels(&s.a[model.particlePoint[j]], G, model.tildeMass[j], x[j] - ref,
-                      model.restCentred[j], v.empty() ? Vec3{} : v[j]);
-    cubeSum(model, s.a, s.b, firstChannelsUsed);
-
-    // Regions: gather their sums, then scatter their frames for the second summation.
-    float S[kFirstChannels];
-    s.region.resize(P * kSecondChannels);
-    for (uint32_t r = 0; r < P; ++r) {
-        const size_t g = model.particlePoint[r];
-        for (int c = 0; c < firstChannelsUsed; ++c) S[c] = s.b[size_t(c) * G + g];
-        const RegionFrame f = regionFrame(model, r, S, rotations[r], iterations, wantVelocity);
-        writeSecond(&s.region[r * kSecondChannels], 1, f);
-    }
-    std::memset(s.a.data(), 0, G * size_t(secondChannelsUsed) * sizeof(float));
-    for (uint32_t r = 0; r < P; ++r) {
-        const size_t g = model.particlePoint[r];
-        const float* f = &s.region[r * kSecondChannels];
-        for (int c = 0; c < secondChannelsUsed; ++c) s.a[size_t(c) * G + g] = f[c];
-    }
-    cubeSum(model, s.a, s.b, secondChannelsUsed);
-    for (uint32_t i = 0; i < P; ++i) {
-        const size_t g = model.particlePoint[i];
-        const float* U = &s.b[g];
-        auto at = [&](int c) { return U[size_t(c) * G]; };
-        const float inv = 1.0f / model.regionSize[i];
-        const Vec3 x0 = model.restCentred[i];
-        const Mat3 SR{{{at(0), at(1), at(2)}, {at(3), at(4), at(5)}, {at(6), at(7), at(8)}}};
-        s.goal[i] = (SR * x0 + Vec3{at(9), at(10), at(11)}) * inv;
-        if (wantVelocity)
-            s.rigidVelocity[i] =
-                (Vec3{at(15), at(16), at(17)} + cross(Vec3{at(12), at(13), at(14)}, x[i] - ref)) *
-                inv;
+    auto first = [&]<int C>() {
+        std::memset(s.a.data(), 0, G * C * sizeof(float));
+        float T[kFirstChannels];
+        for (uint32_t j = 0; j < P; ++j) {
+            firstChannels(T, 1, model.tildeMass[j], x[j] - ref, model.restCentred[j],
+                          v.empty() ? Vec3{} : v[j]);
+            std::memcpy(&s.a[size_t(model.particlePoint[j]) * C], T, C * sizeof(float));
+        }
+        cubeSum<C>(model, s.a, s.b);
+        // Regions: their sums give their frames, scattered for the second summation.
+        s.region.resize(P * kSecondChannels);
+        for (uint32_t r = 0; r < P; ++r) {
+            const RegionFrame f = regionFrame(model, r, &s.b[size_t(model.particlePoint[r]) * C],
+                                              rotations[r], iterations, wantVelocity);
+            writeSecond(&s.region[r * kSecondChannels], 1, f);
+        }
+    };
+    auto second = [&]<int C>() {
+        std::memset(s.a.data(), 0, G * C * sizeof(float));
+        for (uint32_t r = 0; r < P; ++r)
+            std::memcpy(&s.a[size_t(model.particlePoint[r]) * C], &s.region[r * kSecondChannels],
+                        C * sizeof(float));
+        cubeSum<C>(model, s.a, s.b);
+        for (uint32_t i = 0; i < P; ++i) {
+            const float* U = &s.b[size_t(model.particlePoint[i]) * C];
+            const float inv = 1.0f / model.regionSize[i];
+            const Mat3 SR{{{U[0], U[1], U[2]}, {U[3], U[4], U[5]}, {U[6], U[7], U[8]}}};
+            s.goal[i] = (SR * model.restCentred[i] + Vec3{U[9], U[10], U[11]}) * inv;
+            if constexpr (C > 12)
+                s.rigidVelocity[i] =
+                    (Vec3{U[15], U[16], U[17]} + cross(Vec3{U[12], U[13], U[14]}, x[i] - ref)) * inv;
+        }
+    };
+    if (wantVelocity) {
+        first.template operator()<kFirstChannels>();
+        second.template operator()<kSecondChannels>();
+    } else {
+        first.template operator()<12>();
+        second.template operator()<12>();
     }
 }
 
@@ -210,14 +220,14 @@ ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int w) {
                                                      " is out of range (expected 1..4)");
     ShapeMatchingModel m;
     m.halfWidth = w;
-    for (int a = 0; a < 3; ++a) m.paddedDims[a] = lattice.dims[a] + 1 + 2 * w;
+    for (int a = 0; a < 3; ++a) m.pointDims[a] = lattice.dims[a] + 1;
     const size_t P = lattice.particleCount();
-    const size_t px = size_t(m.paddedDims[0]), py = size_t(m.paddedDims[1]);
-    std::vector<int32_t> at(m.paddedPointCount(), -1);
+    const size_t px = size_t(m.pointDims[0]), py = size_t(m.pointDims[1]);
+    std::vector<int32_t> at(m.pointCount(), -1);
     m.particlePoint.resize(P);
     for (size_t p = 0; p < P; ++p) {
         const GridCoord& g = lattice.particleCoords[p];
-        const size_t idx = size_t(g[0] + w) + px * (size_t(g[1] + w) + py * size_t(g[2] + w));
+        const size_t idx = size_t(g[0]) + px * (size_t(g[1]) + py * size_t(g[2]));
         m.particlePoint[p] = uint32_t(idx);
         at[idx] = int32_t(p);
     }
@@ -228,8 +238,11 @@ ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int w) {
         for (int dz = -w; dz <= w; ++dz)
             for (int dy = -w; dy <= w; ++dy)
                 for (int dx = -w; dx <= w; ++dx) {
-                    const size_t idx = size_t(g[0] + w + dx) +
-                                       px * (size_t(g[1] + w + dy) + py * size_t(g[2] + w + dz));
+                    const int qx = g[0] + dx, qy = g[1] + dy, qz = g[2] + dz;
+                    if (qx < 0 || qy < 0 || qz < 0 || qx >= m.pointDims[0] ||
+                        qy >= m.pointDims[1] || qz >= m.pointDims[2])
+                        continue;
+                    const size_t idx = size_t(qx) + px * (size_t(qy) + py * size_t(qz));
                     if (at[idx] >= 0) m.members.push_back(uint32_t(at[idx]));
                 }
         m.memberStart.push_back(uint32_t(m.members.size()));
@@ -274,16 +287,20 @@ void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep&
                        ShapeMatchingScratch& s, bool naive) {
     const Vec3 ref = massCentre(model, x);
     const bool damp = step.damping > 0;
-    computeGoals(model, x, v, ref, rotations, step.rotationIterations, damp, s, naive);
+    const bool regionDamp = damp && step.regionDamping;
+    computeGoals(model, x, v, ref, rotations, step.rotationIterations, regionDamp, s, naive);
     const float k = step.stiffness / step.dt;
     // Internal velocity changes (goal pull and damping); stored in s.goal, which is not needed
     // past this point. Goal and position are both taken relative to ref, so that rounding
     // scales with the body's size rather than its distance from the origin.
     for (size_t i = 0; i < x.size(); ++i) {
         Vec3 dvi = (s.goal[i] - (x[i] - ref)) * k;
-        if (damp) dvi += (s.rigidVelocity[i] - v[i]) * step.damping;
+        if (regionDamp) dvi += (s.rigidVelocity[i] - v[i]) * step.damping;
         s.goal[i] = dvi;
     }
+    if (damp && !regionDamp)
+        addNonRigidDamping(model.massFraction, x, v, step.damping,
+                           std::span<Vec3>(s.goal.data(), x.size()));
     removeMomentumDrift(model.massFraction, std::span<Vec3>(s.goal.data(), x.size()));
     const Vec3 dv = step.acceleration * step.dt;
     for (size_t i = 0; i < x.size(); ++i) {

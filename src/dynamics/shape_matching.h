@@ -26,8 +26,8 @@ namespace ffd::detail {
 /// Immutable shape-matching data of one lattice, shared by all bodies made from it.
 struct ShapeMatchingModel {
     int halfWidth = 1;                   ///< w
-    GridCoord paddedDims{0, 0, 0};       ///< lattice point grid + w zeros on each side
-    std::vector<uint32_t> particlePoint; ///< #P index into the padded grid
+    GridCoord pointDims{0, 0, 0};        ///< the lattice's point grid (cells + 1 per axis)
+    std::vector<uint32_t> particlePoint; ///< #P index into the point grid (x fastest)
     std::vector<float> massFraction;     ///< #P m_i / M (sums to 1)
     std::vector<float> tildeMass;        ///< #P m~_i / M
     std::vector<float> regionSize;       ///< #P |R_i|
@@ -37,9 +37,7 @@ struct ShapeMatchingModel {
     std::vector<uint32_t> memberStart;   ///< #P + 1, CSR of region members (naive path, tests)
     std::vector<uint32_t> members;
 
-    size_t paddedPointCount() const {
-        return size_t(paddedDims[0]) * paddedDims[1] * paddedDims[2];
-    }
+    size_t pointCount() const { return size_t(pointDims[0]) * pointDims[1] * pointDims[2]; }
 };
 
 ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int halfWidth);
@@ -48,7 +46,8 @@ ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int halfWidth);
 struct ShapeMatchingStep {
     float dt = 1.0f / 120.0f;
     float stiffness = 1.0f;     ///< alpha in (0,1]
-    float damping = 0.0f;       ///< fraction of each region's non-rigid velocity removed, [0,1]
+    float damping = 0.0f;       ///< fraction of the non-rigid velocity removed, [0,1]
+    bool regionDamping = false; ///< damp relative to each region's rigid motion (else the body's)
     Vec3 acceleration;          ///< gravity + external force / mass, m/s^2
     int rotationIterations = 2; ///< warm-started polar iterations per region
 };

@@ -355,6 +355,7 @@ void World::step() {
     prof = Profile{};
     const auto frameStart = Clock::now();
     const float dt = w.settings.frameStep / float(w.settings.substeps);
+    w.substep = dt;
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
         auto t = Clock::now();

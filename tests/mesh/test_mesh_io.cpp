@@ -7,6 +7,7 @@
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <array>
@@ -363,9 +364,22 @@ TEST(LoadMeshErrors, Unreadable) {
     TempDir dir;
     writeFile(dir / "secret.obj", objCube());
     fs::permissions(dir / "secret.obj", fs::perms::none);
-    if (std::ifstream(dir / "secret.obj").good())
-        GTEST_SKIP() << "running with privileges that read any file";
-    expectError(dir / "secret.obj", "cannot be read");
+    // Root reads any file, so the load runs in a child process that first drops to the
+    // unprivileged user `nobody` (uid 65534) when started as root.
+    const fs::path file = dir / "secret.obj";
+    EXPECT_EXIT(
+        {
+            if (::geteuid() == 0 && ::setuid(65534) != 0) std::_Exit(3);
+            try {
+                loadMesh(file);
+            } catch (const InputError& e) {
+                const bool named = std::string(e.what()).find(file.string()) != std::string::npos;
+                const bool said = std::string(e.what()).find("cannot be read") != std::string::npos;
+                std::_Exit(named && said ? 0 : 1);
+            }
+            std::_Exit(2);
+        },
+        ::testing::ExitedWithCode(0), "");
 }
 
 // --- truncated -------------------------------------------------------------------------------
@@ -523,7 +537,10 @@ TEST(LoadMeshErrors, AbsurdCountsAreRejectedBeforeAllocating) {
     expectError(dir, "huge.stl", stlBinary(cubeTriangleCorners(), 4000000000u), "limit");
     expectError(dir, "big.stl", stlBinary(cubeTriangleCorners(), 1000u), "truncated");
     std::string polygon = objCube() + "f";
-    for (int i = 0; i < 2000; ++i) polygon += " " + std::to_string(i % 8 + 1);
+    for (int i = 0; i < 2000; ++i) {
+        polygon += ' ';
+        polygon += std::to_string(i % 8 + 1);
+    }
     expectError(dir, "polygon.obj", polygon + "\n", "limit");
 }
 

@@ -1,0 +1,85 @@
+// Lattice dynamics cost per particle per substep: shape matching (fast summation and the naive
+// reference, per-body and per-region damping, w = 1..3) and mass-spring.
+#include "dynamics/mass_spring.h"
+#include "dynamics/shape_matching.h"
+#include "ffdaabb/generators.h"
+#include "ffdaabb/lattice.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+using namespace ffd;
+
+namespace {
+
+// A lattice of about `cells` cells around a sphere, deformed by a wave, moving.
+struct Setup {
+    Lattice lattice;
+    std::vector<Vec3> x, v;
+    explicit Setup(int cells) {
+        TriangleMesh m = icosphere(3);
+        LatticeSettings s;
+        s.targetCells = cells;
+        lattice = buildLattice(m, s);
+        x = lattice.restParticles;
+        v.assign(x.size(), Vec3{0.1f, 0.0f, 0.0f});
+        for (Vec3& p : x) p += Vec3{0.05f * std::sin(3 * p.y), 0.0f, 0.05f * std::cos(2 * p.x)};
+    }
+};
+
+void BM_ShapeMatching(benchmark::State& state) {
+    const int w = int(state.range(0));
+    const bool naive = state.range(1) & 1;
+    const bool regionDamping = state.range(1) & 2;
+    Setup setup(int(state.range(2)));
+    const detail::ShapeMatchingModel model = detail::buildShapeMatching(setup.lattice, w);
+    std::vector<Quat> q(setup.x.size());
+    detail::ShapeMatchingScratch scratch;
+    detail::ShapeMatchingStep step;
+    step.damping = 0.1f;
+    step.regionDamping = regionDamping;
+    step.acceleration = {0, -9.81f, 0};
+    std::vector<Vec3> x = setup.x, v = setup.v;
+    for (auto _ : state) {
+        // Re-deform every step so the work stays representative (no convergence to rest).
+        x = setup.x;
+        detail::stepShapeMatching(model, step, x, v, q, scratch, naive);
+        benchmark::DoNotOptimize(x.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(x.size()));
+    state.SetLabel(std::string(naive ? "naive" : "fast") +
+                   (regionDamping ? " region-damping" : " body-damping") + " P=" +
+                   std::to_string(x.size()) + " mean region " +
+                   std::to_string(model.members.size() / x.size()));
+}
+
+void BM_MassSpring(benchmark::State& state) {
+    Setup setup(int(state.range(0)));
+    const detail::MassSpringModel model = detail::buildMassSpring(setup.lattice);
+    std::vector<float> invMass(setup.x.size(), 1.0f);
+    detail::MassSpringScratch scratch;
+    detail::MassSpringStep step;
+    step.damping = 0.1f;
+    step.acceleration = {0, -9.81f, 0};
+    step.youngsModulus = 2e5f;
+    std::vector<Vec3> x = setup.x, v = setup.v;
+    int iterations = 0;
+    for (auto _ : state) {
+        x = setup.x;
+        iterations = detail::stepMassSpring(model, step, invMass, x, v, scratch);
+        benchmark::DoNotOptimize(x.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(x.size()));
+    state.SetLabel("P=" + std::to_string(x.size()) + " springs=" +
+                   std::to_string(model.springs.size()) + " CG iterations=" +
+                   std::to_string(iterations));
+}
+
+} // namespace
+
+// Arguments: w, mode (bit 0 naive, bit 1 region damping), target cells.
+BENCHMARK(BM_ShapeMatching)
+    ->ArgsProduct({{1, 2, 3}, {0, 1, 2, 3}, {38, 148}})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MassSpring)->Arg(38)->Arg(148)->Unit(benchmark::kMicrosecond);
