@@ -1,11 +1,210 @@
+// ffdaabb mesh-info: mesh and lattice statistics of a file or a generated object, with the
+// paper's Table 2 beside ours for the paper's objects.
 #include "commands.h"
+
+#include "ffdaabb/error.h"
+#include "ffdaabb/generators.h"
+#include "ffdaabb/lattice.h"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
 
 namespace ffd::cli {
 
+namespace {
+
+struct MeshInfoOptions {
+    std::string file;
+    std::string generate;
+    int cells = 0;
+    float cellSize = 0;
+    bool json = false;
+};
+
+struct ObjectStats {
+    std::string name;
+    size_t vertices = 0, triangles = 0;
+    bool closed = false;
+    size_t cells = 0, surfaceCells = 0, interiorCells = 0, particles = 0, nodes = 0;
+    float cellSize = 0;
+    double buildMs = 0, generateMs = 0;
+    CleanupReport cleanup;
+};
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+ObjectStats analyse(TriangleMesh mesh, const MeshInfoOptions& o, int defaultCells,
+                    double generateMs, bool clean) {
+    ObjectStats s;
+    s.name = mesh.name;
+    s.generateMs = generateMs;
+    if (clean) s.cleanup = ffd::cleanup(mesh);
+    s.vertices = mesh.vertexCount();
+    s.triangles = mesh.triangleCount();
+    s.closed = isClosed(mesh);
+    LatticeSettings ls;
+    if (o.cellSize > 0)
+        ls.cellSize = o.cellSize;
+    else
+        ls.targetCells = o.cells > 0 ? o.cells : defaultCells;
+    LatticeStats stats;
+    const auto t = Clock::now();
+    const Lattice L = buildLattice(mesh, ls, &stats);
+    s.buildMs = msSince(t);
+    s.cells = L.cellCount();
+    s.surfaceCells = L.surfaceCellCount();
+    s.interiorCells = size_t(stats.interiorCells);
+    s.particles = L.particleCount();
+    s.nodes = L.nodeCount();
+    s.cellSize = L.cellSize;
+    return s;
+}
+
+nlohmann::json toJson(const ObjectStats& s) {
+    return {{"name", s.name},
+            {"vertices", s.vertices},
+            {"triangles", s.triangles},
+            {"closed", s.closed},
+            {"cells", s.cells},
+            {"surface_cells", s.surfaceCells},
+            {"interior_cells", s.interiorCells},
+            {"particles", s.particles},
+            {"nodes", s.nodes},
+            {"cell_size", s.cellSize},
+            {"lattice_build_ms", s.buildMs},
+            {"generate_ms", s.generateMs}};
+}
+
+int run(const MeshInfoOptions& o) {
+    const bool hasFile = !o.file.empty(), hasGenerator = !o.generate.empty();
+    if (hasFile == hasGenerator)
+        throw InputError("mesh-info", "give either a mesh FILE or --generate NAME (not both)");
+    if (o.cells < 0)
+        throw InputError("--cells", "must be positive, got " + std::to_string(o.cells));
+    if (!(o.cellSize >= 0))
+        throw InputError("--cell-size",
+                         "must be a positive number, got " + fmt::format("{}", o.cellSize));
+
+    std::vector<ObjectStats> objects;
+    const PaperObjectFigures* paper = nullptr;
+    if (hasFile) {
+        const auto t = Clock::now();
+        TriangleMesh mesh = loadMesh(o.file);
+        mesh.name = o.file;
+        objects.push_back(analyse(std::move(mesh), o, 64, msSince(t), true));
+    } else if (o.generate == "alphabet") {
+        paper = &kPaperLetter;
+        for (char c = 'A'; c <= 'Z'; ++c) {
+            const auto t = Clock::now();
+            TriangleMesh mesh = generate(std::string("letter:") + c);
+            objects.push_back(analyse(std::move(mesh), o, paper->cells, msSince(t), false));
+        }
+    } else {
+        paper = paperFigures(o.generate);
+        const auto t = Clock::now();
+        TriangleMesh mesh = generate(o.generate);
+        objects.push_back(
+            analyse(std::move(mesh), o, paper ? paper->cells : 64, msSince(t), false));
+    }
+
+    // The alphabet reports the averages over A-Z, as the paper's Table 2 does.
+    ObjectStats summary = objects.front();
+    if (objects.size() > 1) {
+        auto mean = [&](auto member) {
+            double sum = 0;
+            for (const ObjectStats& s : objects) sum += double(s.*member);
+            return sum / double(objects.size());
+        };
+        summary.name = "alphabet (A-Z average)";
+        summary.vertices = size_t(std::lround(mean(&ObjectStats::vertices)));
+        summary.triangles = size_t(std::lround(mean(&ObjectStats::triangles)));
+        summary.cells = size_t(std::lround(mean(&ObjectStats::cells)));
+        summary.surfaceCells = size_t(std::lround(mean(&ObjectStats::surfaceCells)));
+        summary.interiorCells = size_t(std::lround(mean(&ObjectStats::interiorCells)));
+        summary.particles = size_t(std::lround(mean(&ObjectStats::particles)));
+        summary.nodes = size_t(std::lround(mean(&ObjectStats::nodes)));
+        summary.buildMs = mean(&ObjectStats::buildMs);
+        summary.generateMs = mean(&ObjectStats::generateMs);
+        summary.closed = true;
+        for (const ObjectStats& s : objects) summary.closed = summary.closed && s.closed;
+    }
+
+    if (o.json) {
+        nlohmann::json j = toJson(summary);
+        if (objects.size() > 1) {
+            j["letters"] = nlohmann::json::array();
+            for (const ObjectStats& s : objects) j["letters"].push_back(toJson(s));
+        }
+        if (paper)
+            j["paper"] = {{"object", paper->name},
+                          {"vertices", paper->vertices},
+                          {"triangles", paper->triangles},
+                          {"cells", paper->cells}};
+        if (hasFile)
+            j["cleanup"] = {{"welded_vertices", summary.cleanup.weldedVertices},
+                            {"degenerate_triangles", summary.cleanup.degenerateTriangles},
+                            {"duplicate_triangles", summary.cleanup.duplicateTriangles},
+                            {"unreferenced_vertices", summary.cleanup.unreferencedVertices}};
+        fmt::print("{}\n", j.dump(2));
+        return 0;
+    }
+
+    if (objects.size() > 1) {
+        fmt::print("{:<8} {:>9} {:>9} {:>6} {:>8} {:>9}\n", "letter", "vertices", "triangles",
+                   "cells", "surface", "particles");
+        for (const ObjectStats& s : objects)
+            fmt::print("{:<8} {:>9} {:>9} {:>6} {:>8} {:>9}\n", s.name, s.vertices, s.triangles,
+                       s.cells, s.surfaceCells, s.particles);
+        fmt::print("\n");
+    }
+    fmt::print("{}\n", summary.name);
+    if (hasFile && summary.cleanup.changed())
+        fmt::print("  cleanup        welded {} vertices, dropped {} degenerate and {} duplicate "
+                   "triangles and {} unreferenced vertices\n",
+                   summary.cleanup.weldedVertices, summary.cleanup.degenerateTriangles,
+                   summary.cleanup.duplicateTriangles, summary.cleanup.unreferencedVertices);
+    const auto row = [&](const char* what, auto ours, int theirs) {
+        if (paper)
+            fmt::print("  {:<14} {:>10} {:>12}\n", what, ours, theirs);
+        else
+            fmt::print("  {:<14} {:>10}\n", what, ours);
+    };
+    if (paper) fmt::print("  {:<14} {:>10} {:>12}\n", "", "ours", "paper (T2)");
+    row("vertices", summary.vertices, paper ? paper->vertices : 0);
+    row("triangles", summary.triangles, paper ? paper->triangles : 0);
+    row("FFD cells", summary.cells, paper ? paper->cells : 0);
+    fmt::print("  {:<14} {:>10}\n", "closed", summary.closed ? "yes" : "no");
+    fmt::print("  {:<14} {:>10}\n", "surface cells", summary.surfaceCells);
+    fmt::print("  {:<14} {:>10}\n", "interior cells", summary.interiorCells);
+    fmt::print("  {:<14} {:>10}\n", "particles", summary.particles);
+    fmt::print("  {:<14} {:>10}\n", "box nodes", summary.nodes);
+    if (objects.size() == 1) fmt::print("  {:<14} {:>10.4g}\n", "cell size", summary.cellSize);
+    fmt::print("  {:<14} {:>10.2f} ms\n", "lattice build", summary.buildMs);
+    fmt::print("  {:<14} {:>10.2f} ms\n", hasFile ? "load" : "generate", summary.generateMs);
+    return 0;
+}
+
+} // namespace
+
 void addMeshInfoCommand(CLI::App& app, Action& action) {
-    auto* cmd =
-        app.add_subcommand("mesh-info", "Mesh and lattice statistics of a file or generator");
-    cmd->callback([&action] { action = [] { return 0; }; });
+    auto options = std::make_shared<MeshInfoOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "mesh-info", "Mesh and lattice statistics of a mesh file or a generated object");
+    cmd->add_option("file", options->file, "Mesh file (.obj, .ply, .ply.gz, .stl, .off)");
+    cmd->add_option("--generate", options->generate,
+                    std::string("Generated object: ") + generatorNames() + ", alphabet");
+    cmd->add_option("--cells", options->cells,
+                    "Target lattice cell count (default: the paper's for its objects, else 64)");
+    cmd->add_option("--cell-size", options->cellSize, "Lattice cell size in mesh units");
+    cmd->add_flag("--json", options->json, "Print one JSON object");
+    cmd->footer("For the paper's objects (sphere, teapot, letter:X, alphabet, dragon) the "
+                "paper's Table 2 figures are printed beside ours.");
+    cmd->callback([options, &action] { action = [options] { return run(*options); }; });
 }
 
 } // namespace ffd::cli

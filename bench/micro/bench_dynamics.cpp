@@ -49,8 +49,8 @@ void BM_ShapeMatching(benchmark::State& state) {
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(x.size()));
     state.SetLabel(std::string(naive ? "naive" : "fast") +
-                   (regionDamping ? " region-damping" : " body-damping") + " P=" +
-                   std::to_string(x.size()) + " mean region " +
+                   (regionDamping ? " region-damping" : " body-damping") +
+                   " P=" + std::to_string(x.size()) + " mean region " +
                    std::to_string(model.members.size() / x.size()));
 }
 
@@ -71,9 +71,9 @@ void BM_MassSpring(benchmark::State& state) {
         benchmark::DoNotOptimize(x.data());
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(x.size()));
-    state.SetLabel("P=" + std::to_string(x.size()) + " springs=" +
-                   std::to_string(model.springs.size()) + " CG iterations=" +
-                   std::to_string(iterations));
+    state.SetLabel("P=" + std::to_string(x.size()) +
+                   " springs=" + std::to_string(model.springs.size()) +
+                   " CG iterations=" + std::to_string(iterations));
 }
 
 } // namespace

@@ -23,10 +23,18 @@ const PaperObject& paperObject(int index) {
     if (!slot) {
         slot = std::make_unique<PaperObject>();
         switch (index) {
-        case 0: slot->mesh = letter('A'), slot->cells = 34; break;
-        case 1: slot->mesh = icosphere(2), slot->cells = 38; break;
-        case 2: slot->mesh = teapot(10), slot->cells = 84; break;
-        default: slot->mesh = dragon(), slot->cells = 148; break;
+        case 0:
+            slot->mesh = letter('A'), slot->cells = 34;
+            break;
+        case 1:
+            slot->mesh = icosphere(2), slot->cells = 38;
+            break;
+        case 2:
+            slot->mesh = teapot(10), slot->cells = 84;
+            break;
+        default:
+            slot->mesh = dragon(), slot->cells = 148;
+            break;
         }
     }
     return *slot;
@@ -60,7 +68,8 @@ void BM_NodeUpdate(benchmark::State& state) {
     s.targetCells = o.cells;
     const Lattice L = buildLattice(o.mesh, s);
     std::vector<Vec3> particles = L.restParticles, nodes(L.nodeCount());
-    for (size_t i = 0; i < particles.size(); ++i) particles[i] += Vec3{0.01f, 0.0f, -0.01f} * float(i % 7);
+    for (size_t i = 0; i < particles.size(); ++i)
+        particles[i] += Vec3{0.01f, 0.0f, -0.01f} * float(i % 7);
     for (auto _ : state) {
         updateBoxNodes(L, particles, nodes);
         benchmark::DoNotOptimize(nodes.data());
@@ -75,7 +84,8 @@ void BM_MeshUpdate(benchmark::State& state) {
     s.targetCells = o.cells;
     const Lattice L = buildLattice(o.mesh, s);
     std::vector<Vec3> particles = L.restParticles, vertices(o.mesh.vertexCount());
-    for (size_t i = 0; i < particles.size(); ++i) particles[i] += Vec3{0.01f, 0.0f, -0.01f} * float(i % 7);
+    for (size_t i = 0; i < particles.size(); ++i)
+        particles[i] += Vec3{0.01f, 0.0f, -0.01f} * float(i % 7);
     for (auto _ : state) {
         deformVertices(L, particles, vertices);
         benchmark::DoNotOptimize(vertices.data());

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace ffd {
 
@@ -68,6 +69,17 @@ struct DragonSettings {
 /// Deterministic. Throws InputError naming the file when it is missing (run
 /// scripts/setup.sh --models) and for a non-positive size or a target below 4.
 TriangleMesh dragon(const DragonSettings& settings = {});
+
+/// A generated object by name: "sphere" (icosphere, 2 subdivisions, radius 1), "icosphere:N",
+/// "teapot" (n = 10), "teapot:N", "letter:X" (X in A-Z), "dragon". Throws InputError naming
+/// the spec for anything else.
+TriangleMesh generate(std::string_view spec);
+
+/// The paper's Table 2 row for a generator name (letters: the alphabet average), or nullptr.
+const PaperObjectFigures* paperFigures(std::string_view spec);
+
+/// The generator names `generate` accepts, for help texts.
+const char* generatorNames();
 
 /// The folder the setup script fills with model data: $FFDAABB_MODELS when set, else the
 /// `.cache/models` folder of the source tree this library was built from.

@@ -1,9 +1,12 @@
 #include "test_support.h"
 
 #include <cmath>
+#include <csignal>
+#include <fcntl.h>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace ffd::test {
@@ -57,6 +60,40 @@ Vec3 SmoothDeformation::operator()(Vec3 p) const {
     Vec3 q = p;
     for (const Wave& w : waves_) q += w.offset * std::sin(dot(w.direction, p) + w.phase);
     return q;
+}
+
+std::filesystem::path cliPath() {
+    return std::filesystem::path(FFD_BINARY_DIR) / "bin" / "ffdaabb";
+}
+
+RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds) {
+    TempDir dir;
+    const std::string outPath = (dir / "out").string(), errPath = (dir / "err").string();
+    const std::string exe = cliPath().string();
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(out, 1);
+        ::dup2(err, 2);
+        ::alarm(unsigned(timeoutSeconds));
+        ::execv(exe.c_str(), argv.data());
+        std::_Exit(127);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    RunResult r;
+    if (WIFEXITED(status))
+        r.status = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status))
+        r.status = WTERMSIG(status) == SIGALRM ? 124 : 128 + WTERMSIG(status);
+    r.out = readFile(outPath);
+    r.err = readFile(errPath);
+    return r;
 }
 
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol) {

@@ -45,6 +45,19 @@ private:
     std::vector<Wave> waves_;
 };
 
+/// Result of running a command.
+struct RunResult {
+    int status = -1;     ///< exit status (or 128 + signal)
+    std::string out, err;
+};
+
+/// Runs the ffdaabb CLI built alongside the tests with `args` (already split), capturing
+/// stdout and stderr. `timeoutSeconds` kills it when exceeded (status 124).
+RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds = 300);
+
+/// Path of the CLI binary under test.
+std::filesystem::path cliPath();
+
 /// True when p lies in the convex hull of the 8 points (within tol, absolute): for every plane
 /// through three of the points that has all 8 on one side, p must be on that side too.
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol);
