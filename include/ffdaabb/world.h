@@ -65,6 +65,8 @@ struct BodySettings {
     float density = 1000.0f;    ///< kg/m^3, used when mass is 0
     float mass = 0.0f;          ///< kg; 0 = density * volume (mesh volume, or lattice volume)
     float damping = 10.0f;      ///< 1/s, rate at which non-rigid motion is removed
+    bool regionDamping = false; ///< shape matching: damp relative to each region's rigid motion
+                                ///< (local wobble only) instead of the whole body's
     float friction = 0.5f;      ///< Coulomb coefficient
     float restitution = 0.0f;   ///< normal restitution, [0, 1]
     Vec3 position;              ///< the mesh's origin is placed here

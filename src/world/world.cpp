@@ -328,6 +328,7 @@ void dynamicsStage(WorldData& w, float dt) {
                 step.dt = dt;
                 step.stiffness = r.settings.stiffness;
                 step.damping = damping;
+                step.regionDamping = r.settings.regionDamping;
                 step.acceleration = accel;
                 stepShapeMatching(r.model->shapeMatching, step, x, v,
                                   std::span<Quat>(w.rotations.data() + p0, np),
