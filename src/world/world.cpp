@@ -320,7 +320,8 @@ void dynamicsStage(WorldData& w, float dt) {
                 const Vec3 f = w.particleForce[p0 + i];
                 if (f.x != 0 || f.y != 0 || f.z != 0) v[i] += f * (dt * w.invMass[p0 + i]);
             }
-            const Vec3 accel = (w.settings.gravity + r.force / r.mass) * (r.halfKick ? 0.5f : 1.0f);
+            // Leapfrog start for the constant acceleration (gravity); user forces act in full.
+            const Vec3 accel = w.settings.gravity * (r.halfKick ? 0.5f : 1.0f) + r.force / r.mass;
             r.halfKick = false;
             const float damping = 1.0f - std::exp(-r.settings.damping * dt);
             if (r.model->dynamics == DynamicsModel::ShapeMatching) {
