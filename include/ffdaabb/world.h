@@ -64,15 +64,19 @@ struct BodySettings {
     int springIterations = 20;  ///< mass-spring: conjugate-gradient iterations at most
     float density = 1000.0f;    ///< kg/m^3, used when mass is 0
     float mass = 0.0f;          ///< kg; 0 = density * volume (mesh volume, or lattice volume)
-    float damping = 10.0f;      ///< 1/s, rate at which non-rigid motion is removed
+    float damping = 20.0f;      ///< 1/s, rate at which non-rigid motion is removed
     bool regionDamping = false; ///< shape matching: damp relative to each region's rigid motion
                                 ///< (local wobble only) instead of the whole body's
     float friction = 0.5f;      ///< Coulomb coefficient
     float restitution = 0.0f;   ///< normal restitution, [0, 1]
-    Vec3 position;              ///< the mesh's origin is placed here
-    Quat rotation;              ///< and the mesh rotated about it
-    Vec3 velocity;              ///< initial velocity of the centre of mass, m/s
-    Vec3 angularVelocity;       ///< initial angular velocity about the centre of mass, rad/s
+    /// Share of an impact's approach speed removed through the body's rigid motion at once
+    /// (0: only the contact particles are stopped and the body absorbs the impact by
+    /// deforming; 1: the whole body stops like a rigid one). Contacts use the pair's mean.
+    float contactRigidity = 0.5f;
+    Vec3 position;        ///< the mesh's origin is placed here
+    Quat rotation;        ///< and the mesh rotated about it
+    Vec3 velocity;        ///< initial velocity of the centre of mass, m/s
+    Vec3 angularVelocity; ///< initial angular velocity about the centre of mass, rad/s
 };
 
 /// World-wide settings.

@@ -1,9 +1,11 @@
-// Contact response on lattice particles: position projection, then velocity correction with
-// restitution and Coulomb friction, Gauss-Seidel over the contacts in a fixed order.
-// Reference: Mueller, Heidelberger, Hennix, Ratcliff, "Position Based Dynamics", 2006;
-// E. Catto, "Solver2D" / Box2D's speculative contacts (the velocity bound -C/dt).
+// Contact response on lattice particles: a rigid phase on the bodies' rigid modes, position
+// projection with velocities following, then friction and restitution; Gauss-Seidel over the
+// contacts in a fixed order.
+// References: Mueller, Heidelberger, Hennix, Ratcliff, "Position Based Dynamics", 2006;
+// E. Catto, Box2D (speculative contacts, accumulated impulses with clamping).
 #include "collision/contact.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ffd::detail {
@@ -25,6 +27,12 @@ void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> 
     }
 }
 
+// Inverse effective mass of a rigid body at arm r along direction d.
+float rigidInverseMass(const RigidState& s, Vec3 r, Vec3 d) {
+    const Vec3 rd = cross(r, d);
+    return s.invMass + dot(rd, s.invInertia * rd);
+}
+
 } // namespace
 
 void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
@@ -37,9 +45,111 @@ void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, V
     }
 }
 
+void prepareRigidStates(std::span<const Contact> contacts, std::span<const Vec3> x,
+                        std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+                        std::span<const uint32_t> particleCount, std::vector<RigidState>& states) {
+    states.assign(firstParticle.size(), RigidState{});
+    for (const Contact& c : contacts) {
+        if (c.rigidity <= 0) continue;
+        states[c.bodyA].active = true;
+        if (c.hasB) states[c.bodyB].active = true;
+    }
+    for (size_t b = 0; b < states.size(); ++b) {
+        RigidState& s = states[b];
+        if (!s.active) continue;
+        s.firstParticle = firstParticle[b];
+        s.particleCount = particleCount[b];
+        double M = 0;
+        Vec3 c{};
+        for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
+            const float m = 1.0f / invMass[i];
+            M += double(m);
+            c += x[i] * m;
+        }
+        c = c / float(M);
+        float xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+        for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
+            const float m = 1.0f / invMass[i];
+            const Vec3 r = x[i] - c;
+            xx += m * r.x * r.x, yy += m * r.y * r.y, zz += m * r.z * r.z;
+            xy += m * r.x * r.y, xz += m * r.x * r.z, yz += m * r.y * r.z;
+        }
+        const float trace = xx + yy + zz;
+        const Mat3 I{{{trace - xx, -xy, -xz}, {-xy, trace - yy, -yz}, {-xz, -yz, trace - zz}}};
+        s.centre = c;
+        s.invMass = float(1.0 / M);
+        if (!inverse(I, s.invInertia, 1e-12f * trace * trace * trace)) s.invInertia = Mat3{};
+    }
+}
+
+void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
+                     std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
+                     float dt, float impactThreshold, int iterations) {
+    points.resize(contacts.size());
+    for (size_t k = 0; k < contacts.size(); ++k) {
+        Contact& c = contacts[k];
+        RigidPoint& p = points[k];
+        const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
+        p.rA = pa - states[c.bodyA].centre;
+        p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
+        p.base = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        p.gap = dot(pa - pb, c.normal) - c.offset;
+        p.normalImpulse = 0;
+        c.approachSpeed = dot(p.base, c.normal);
+    }
+    const float invDt = 1.0f / dt;
+    for (int it = 0; it < iterations; ++it)
+        for (size_t k = 0; k < contacts.size(); ++k) {
+            const Contact& c = contacts[k];
+            // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt)
+            // is left to the particle level, where a partial rigid target that many contacts
+            // share could not be met by one rigid motion and would leave a spurious rotation
+            // behind; a hard threshold would make contacts near it flicker.
+            const float ramp = std::clamp(
+                (-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
+            const float rigidity = c.rigidity * ramp;
+            if (rigidity <= 0) continue;
+            RigidPoint& p = points[k];
+            RigidState& A = states[c.bodyA];
+            RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
+            Vec3 rel = p.base + A.dv + cross(A.dw, p.rA);
+            if (B) rel -= B->dv + cross(B->dw, p.rB);
+            const float vn = dot(rel, c.normal);
+            // The approach that would close more than the gap this substep, scaled by the
+            // rigidity: the rest is left to the particle-level projection (deformation).
+            // Normal only: friction is force-limited, so the particle-level pass removes the
+            // same momentum once its limit counts this phase's normal impulse (a rigid-level
+            // friction with the body's anisotropic response was found to feed a slow spin).
+            const float allowed = -std::fmax(p.gap, 0.0f) * invDt;
+            const float target = c.approachSpeed < allowed
+                                     ? c.approachSpeed + rigidity * (allowed - c.approachSpeed)
+                                     : c.approachSpeed;
+            const float Kn = rigidInverseMass(A, p.rA, c.normal) +
+                             (B ? rigidInverseMass(*B, p.rB, c.normal) : 0.0f);
+            if (!(Kn > 0)) continue;
+            const float old = p.normalImpulse;
+            p.normalImpulse = std::fmax(old + (target - vn) / Kn, 0.0f);
+            const Vec3 impulse = c.normal * (p.normalImpulse - old);
+            A.dv += impulse * A.invMass;
+            A.dw += A.invInertia * cross(p.rA, impulse);
+            if (B) {
+                B->dv -= impulse * B->invMass;
+                B->dw -= B->invInertia * cross(p.rB, impulse);
+            }
+        }
+    for (size_t k = 0; k < contacts.size(); ++k) contacts[k].rigidImpulse = points[k].normalImpulse;
+    for (RigidState& s : states) {
+        if (!s.active) continue;
+        for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
+            v[i] += s.dv + cross(s.dw, x[i] - s.centre);
+        s.dv = s.dw = {};
+    }
+}
+
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations) {
     const float invDt = 1.0f / dt;
+    const bool follow = !v.empty();
     for (Contact& c : contacts) c.positionImpulse = 0;
     for (int it = 0; it < iterations; ++it)
         for (Contact& c : contacts) {
@@ -50,13 +160,51 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
             const float W = c.invMassA + c.invMassB;
             if (!(W > 0)) continue;
             const float lambda = -C / W;
-            c.positionImpulse += lambda * invDt;
             push(c.a, x, invMass, c.normal * lambda);
+            if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
+            if (!follow) continue;
+            c.positionImpulse += lambda * invDt;
             push(c.a, v, invMass, c.normal * (lambda * invDt));
-            if (c.hasB) {
-                push(c.b, x, invMass, c.normal * -lambda);
-                push(c.b, v, invMass, c.normal * (-lambda * invDt));
+            if (c.hasB) push(c.b, v, invMass, c.normal * (-lambda * invDt));
+        }
+}
+
+void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
+                            std::span<const float> invMass, float dt, float bounceThreshold,
+                            int iterations) {
+    for (Contact& c : contacts) {
+        c.normalImpulse = 0;
+        c.tangentImpulse = {};
+        const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
+        c.gap = std::fmax(dot(blend(c.a, x) - pb, c.normal) - c.offset, 0.0f);
+    }
+    const float invDt = 1.0f / dt;
+    for (int it = 0; it < iterations; ++it)
+        for (Contact& c : contacts) {
+            const float W = c.invMassA + c.invMassB;
+            if (!(W > 0)) continue;
+            const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+            const float vn = dot(rel, c.normal);
+            // Close at most the remaining gap next substep (speculative); bounce back fast
+            // impacts by the restitution.
+            float target = -c.gap * invDt;
+            if (c.restitution > 0 && c.approachSpeed < -bounceThreshold)
+                target = std::fmax(target, -c.restitution * c.approachSpeed);
+            const float oldNormal = c.normalImpulse;
+            c.normalImpulse = std::fmax(oldNormal + (target - vn) / W, 0.0f);
+            Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
+            const float limit = c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse);
+            if (limit > 0) {
+                const Vec3 vt = rel - c.normal * vn;
+                const Vec3 oldTangent = c.tangentImpulse;
+                Vec3 t = oldTangent - vt / W;
+                const float tl = length(t);
+                if (tl > limit) t = t * (limit / tl);
+                c.tangentImpulse = t;
+                impulse += t - oldTangent;
             }
+            push(c.a, v, invMass, impulse);
+            if (c.hasB) push(c.b, v, invMass, -impulse);
         }
 }
 
@@ -68,49 +216,6 @@ float residualPenetration(std::span<const Contact> contacts, std::span<const Vec
         deepest = std::fmax(deepest, c.offset - dot(pa - pb, c.normal));
     }
     return deepest;
-}
-
-void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
-                            std::span<const float> invMass, float dt, float bounceThreshold,
-                            int iterations) {
-    for (Contact& c : contacts) {
-        const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
-        c.approachSpeed = dot(rel, c.normal);
-        c.normalImpulse = 0;
-        c.tangentImpulse = {};
-    }
-    const float invDt = 1.0f / dt;
-    for (int it = 0; it < iterations; ++it)
-        for (Contact& c : contacts) {
-            const float W = c.invMassA + c.invMassB;
-            if (!(W > 0)) continue;
-            const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
-            const float gap = dot(pa - pb, c.normal) - c.offset;
-            const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
-            const float vn = dot(rel, c.normal);
-            // Allowed normal velocity: close at most the remaining gap in one substep; bounce
-            // back fast impacts by the restitution.
-            float target = -std::fmax(gap, 0.0f) * invDt;
-            if (c.restitution > 0 && c.approachSpeed < -bounceThreshold)
-                target = std::fmax(target, -c.restitution * c.approachSpeed);
-            const float oldN = c.normalImpulse;
-            c.normalImpulse = std::fmax(oldN + (target - vn) / W, 0.0f);
-            const float dn = c.normalImpulse - oldN;
-            Vec3 impulse = c.normal * dn;
-            // Friction from the tangential velocity after the normal change.
-            const Vec3 vt = rel - c.normal * vn;
-            if (c.friction > 0) {
-                const Vec3 oldT = c.tangentImpulse;
-                Vec3 t = oldT - vt / W;
-                const float limit = c.friction * (c.positionImpulse + c.normalImpulse);
-                const float tl = length(t);
-                if (tl > limit) t = t * (limit / tl);
-                c.tangentImpulse = t;
-                impulse += t - oldT;
-            }
-            push(c.a, v, invMass, impulse);
-            if (c.hasB) push(c.b, v, invMass, -impulse);
-        }
 }
 
 } // namespace ffd::detail

@@ -44,6 +44,7 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, uin
     c.depth = std::fmax(0.0f, -hit.distance);
     c.friction = combineFriction(A, B);
     c.restitution = std::fmax(A.settings.restitution, B.settings.restitution);
+    c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
 
     const CellBox& boxA = LA.boxes[node / 8 - A.firstBox];
     makeContactPoint(LA.cellParticles[boxA.cell].data(), A.firstParticle,
@@ -96,6 +97,12 @@ void rebuildCollisionTopology(WorldData& w) {
         }
     }
     s.isCandidate.assign(w.bodies.size(), 0);
+    s.bodyFirstParticle.resize(w.bodies.size());
+    s.bodyParticleCount.resize(w.bodies.size());
+    for (size_t b = 0; b < w.bodies.size(); ++b) {
+        s.bodyFirstParticle[b] = w.bodies[b].firstParticle;
+        s.bodyParticleCount[b] = w.bodies[b].particleCount;
+    }
 }
 
 void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
@@ -193,12 +200,12 @@ void sphereTest(WorldData& w) {
     }
 }
 
-float floorCollision(WorldData& w, float dt) {
+void findFloorContacts(WorldData& w) {
     CollisionState& s = w.collision;
     s.floorContacts.clear();
-    if (!w.settings.floor) return 0;
+    w.profile.floorContacts = 0;
+    if (!w.settings.floor) return;
     const float floorY = w.settings.floorHeight;
-    float deepest = 0;
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
         const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
@@ -219,6 +226,7 @@ float floorCollision(WorldData& w, float dt) {
                 c.depth = std::fmax(0.0f, floorY - y);
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
+                c.rigidity = r.settings.contactRigidity;
                 makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
                                  box.nodeLocal(n), w.invMass, c.a, c.invMassA);
                 s.floorContacts.push_back(c);
@@ -226,12 +234,6 @@ float floorCollision(WorldData& w, float dt) {
         }
     }
     w.profile.floorContacts = int(s.floorContacts.size());
-    if (s.floorContacts.empty()) return deepest;
-    const float bounce = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.floorContacts, w.x, w.v, w.invMass, dt, w.settings.solverIterations);
-    solveContactVelocities(s.floorContacts, w.x, w.v, w.invMass, dt, bounce,
-                           w.settings.solverIterations);
-    return residualPenetration(s.floorContacts, w.x);
 }
 
 void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& out,
@@ -329,19 +331,32 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     sortContacts(out);
 }
 
-float objectCollision(WorldData& w, float dt) {
+void findAllContacts(WorldData& w) {
     CollisionState& s = w.collision;
     findObjectContacts(w, w.settings.mode, s.objectContacts, w.profile.potentialPairs);
     w.profile.contacts = int(s.objectContacts.size());
-    if (s.objectContacts.empty()) return 0;
-    // Object and floor contacts are solved together so that piles push each other out of the
-    // floor and the floor out of each other within one substep.
     s.all.clear();
     s.all.insert(s.all.end(), s.objectContacts.begin(), s.objectContacts.end());
     s.all.insert(s.all.end(), s.floorContacts.begin(), s.floorContacts.end());
-    const float bounce = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, w.settings.solverIterations);
-    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, bounce, w.settings.solverIterations);
+}
+
+void respondBeforeMove(WorldData& w, float dt) {
+    CollisionState& s = w.collision;
+    if (s.all.empty()) return;
+    const int iterations = w.settings.solverIterations;
+    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations);
+    const float impact = 2.0f * length(w.settings.gravity) * dt;
+    prepareRigidStates(s.all, w.x, w.invMass, s.bodyFirstParticle, s.bodyParticleCount, s.rigid);
+    solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, dt, impact, iterations);
+}
+
+float respondAfterMove(WorldData& w, float dt) {
+    CollisionState& s = w.collision;
+    if (s.all.empty()) return 0;
+    const int iterations = w.settings.solverIterations;
+    const float impact = 2.0f * length(w.settings.gravity) * dt;
+    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations);
+    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations);
     return residualPenetration(s.all, w.x);
 }
 

@@ -1,8 +1,9 @@
 // The collision stages of World::step, each one function over the world's data:
 //   node_update       FFD-AABB nodes from particles, per-box and per-object min/max
 //   sphere_test       phase 1: bounding spheres and candidate object pairs (enhanced only)
-//   floor             node-vs-floor contacts and their response
-//   object_collision  phase 2 (spatial hash) + phase 3 (node vs planes) + response
+//   floor             node-vs-floor contacts
+//   object_collision  phase 2 (spatial hash) + phase 3 (node vs planes) + the response of all
+//                     contacts
 // Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
 // 2012 (Fig. 2: the three phases); Jung, Hong, Choi, IET Image Processing 5(4), 2011.
 #pragma once
@@ -32,17 +33,25 @@ void sphereTest(WorldData& world);
 void sphereTestAllPairs(WorldData& world, std::vector<CandidatePair>& out);
 void sphereTestSweep(WorldData& world, std::vector<CandidatePair>& out);
 
-/// floor: contacts of box nodes with the floor, solved at once. Returns the deepest
-/// penetration left after the response (metres).
-float floorCollision(WorldData& world, float dt);
+/// floor: contacts of box nodes with the floor, found on the current positions (speculative:
+/// within the skin plus the distance the node can travel this substep).
+void findFloorContacts(WorldData& world);
 
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
 /// with the contacts in canonical order; counts node/box pairs tested.
 void findObjectContacts(WorldData& world, CollisionMode mode, std::vector<Contact>& out,
                         int& outPotentialPairs);
 
-/// object_collision: findObjectContacts + joint solve with the floor contacts. Returns the
-/// deepest penetration left after the response (metres).
-float objectCollision(WorldData& world, float dt);
+/// object_collision: findObjectContacts, and the substep's contact list (object contacts, then
+/// the floor's), solved together so that piles and the floor push each other consistently.
+void findAllContacts(WorldData& world);
+
+/// The response before the position update: pre-stabilisation and the rigid phase (see
+/// collision/contact.h).
+void respondBeforeMove(WorldData& world, float dt);
+
+/// The response after the position update: projection with velocities following, then the
+/// velocity pass. Returns the deepest remaining violation (metres).
+float respondAfterMove(WorldData& world, float dt);
 
 } // namespace ffd::detail

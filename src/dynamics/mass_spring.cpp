@@ -177,7 +177,7 @@ int stepMassSpring(const MassSpringModel& model, const MassSpringStep& step,
     const Vec3 kick = step.acceleration * dt;
     for (size_t i = 0; i < n; ++i) {
         v[i] += s.dv[i] + kick;
-        x[i] += v[i] * dt;
+        if (step.integratePositions) x[i] += v[i] * dt;
     }
     return it;
 }

@@ -39,8 +39,9 @@ struct MassSpringStep {
     float youngsModulus = 2e5f; ///< Pa
     float damping = 0.0f;       ///< fraction of the non-rigid velocity removed per substep
     Vec3 acceleration;
-    int iterations = 20;     ///< conjugate-gradient iterations at most
-    float tolerance = 1e-4f; ///< relative residual at which CG stops
+    int iterations = 20;            ///< conjugate-gradient iterations at most
+    float tolerance = 1e-4f;        ///< relative residual at which CG stops
+    bool integratePositions = true; ///< x += dt v here; the World does it after the contacts
 };
 
 struct MassSpringScratch {

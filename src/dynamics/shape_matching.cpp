@@ -186,7 +186,8 @@ void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x, std:
             s.goal[i] = (SR * model.restCentred[i] + Vec3{U[9], U[10], U[11]}) * inv;
             if constexpr (C > 12)
                 s.rigidVelocity[i] =
-                    (Vec3{U[15], U[16], U[17]} + cross(Vec3{U[12], U[13], U[14]}, x[i] - ref)) * inv;
+                    (Vec3{U[15], U[16], U[17]} + cross(Vec3{U[12], U[13], U[14]}, x[i] - ref)) *
+                    inv;
         }
     };
     if (wantVelocity) {
@@ -305,7 +306,7 @@ void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep&
     const Vec3 dv = step.acceleration * step.dt;
     for (size_t i = 0; i < x.size(); ++i) {
         v[i] += s.goal[i] + dv;
-        x[i] += v[i] * step.dt;
+        if (step.integratePositions) x[i] += v[i] * step.dt;
     }
 }
 

@@ -50,6 +50,7 @@ struct ShapeMatchingStep {
     bool regionDamping = false; ///< damp relative to each region's rigid motion (else the body's)
     Vec3 acceleration;          ///< gravity + external force / mass, m/s^2
     int rotationIterations = 2; ///< warm-started polar iterations per region
+    bool integratePositions = true; ///< x += dt v here; the World does it after the contacts
 };
 
 /// Reusable buffers (one per thread).

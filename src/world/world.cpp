@@ -151,6 +151,7 @@ void validate(const BodySettings& s) {
     requireRange("body.damping", s.damping, 0.0, 1e4, "0..1e4 per second");
     requireRange("body.friction", s.friction, 0.0, 10.0, "0..10");
     requireRange("body.restitution", s.restitution, 0.0, 1.0, "0..1");
+    requireRange("body.contactRigidity", s.contactRigidity, 0.0, 1.0, "0..1");
     requireFinite("body.position", s.position);
     requireFinite("body.velocity", s.velocity);
     requireFinite("body.angularVelocity", s.angularVelocity);
@@ -331,6 +332,7 @@ void dynamicsStage(WorldData& w, float dt) {
                 step.damping = damping;
                 step.regionDamping = r.settings.regionDamping;
                 step.acceleration = accel;
+                step.integratePositions = false;
                 stepShapeMatching(r.model->shapeMatching, step, x, v,
                                   std::span<Quat>(w.rotations.data() + p0, np),
                                   scratch.shapeMatching);
@@ -341,6 +343,7 @@ void dynamicsStage(WorldData& w, float dt) {
                 step.damping = damping;
                 step.acceleration = accel;
                 step.iterations = r.settings.springIterations;
+                step.integratePositions = false;
                 stepMassSpring(r.model->springs, step,
                                std::span<const float>(w.invMass.data() + p0, np), x, v,
                                scratch.massSpring);
@@ -381,12 +384,30 @@ void World::step() {
             prof.candidatePairs = int(n * (n - (n > 0)) / 2);
         }
 
+        // Contacts are found on the current positions, speculatively (within what the bodies
+        // can travel this substep); part of the response acts before the positions move and
+        // part after (collision/contact.h).
         t = Clock::now();
-        deepest = std::fmax(deepest, detail::floorCollision(w, dt));
+        detail::findFloorContacts(w);
         prof.floor += msSince(t);
 
         t = Clock::now();
-        deepest = std::fmax(deepest, detail::objectCollision(w, dt));
+        detail::findAllContacts(w);
+        detail::respondBeforeMove(w, dt);
+        prof.objectCollision += msSince(t);
+
+        t = Clock::now();
+        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+            for (size_t b = first; b < last; ++b) {
+                const BodyRecord& r = w.bodies[b];
+                for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+                    w.x[i] += w.v[i] * dt;
+            }
+        });
+        prof.dynamics += msSince(t);
+
+        t = Clock::now();
+        deepest = std::fmax(deepest, detail::respondAfterMove(w, dt));
         prof.objectCollision += msSince(t);
     }
     for (BodyRecord& r : w.bodies) r.force = {};

@@ -40,7 +40,7 @@ struct BodyRecord {
     /// Velocities are stored at half steps (leapfrog): a body whose velocity was just set gets
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
-    Aabb bounds;       ///< of the box nodes, from the last node update
+    Aabb bounds;        ///< of the box nodes, from the last node update
     float maxSpeed = 0; ///< fastest particle at the last node update, m/s
     Vec3 sphereCentre;  ///< bounding sphere (enhanced mode)
     float sphereRadius = 0;
@@ -79,7 +79,7 @@ struct WorldData {
     uint64_t frame = 0;
 
     CollisionState collision;
-    float substep = 1.0f / 120.0f;       ///< dt of the substep in progress
+    float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
     std::vector<ThreadScratch> scratch; ///< one per worker
 
     const BodyRecord* find(BodyId id) const {

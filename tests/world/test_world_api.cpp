@@ -57,7 +57,8 @@ TEST(WorldApi, RemovingABodyKeepsTheOthersIntact) {
     const std::vector<Vec3> before(world.particles(ids[3]).begin(), world.particles(ids[3]).end());
     const Vec3 c2 = world.centreOfMass(ids[2]);
     world.removeBody(ids[1]);
-    EXPECT_EQ(std::vector<Vec3>(world.particles(ids[3]).begin(), world.particles(ids[3]).end()), before);
+    EXPECT_EQ(std::vector<Vec3>(world.particles(ids[3]).begin(), world.particles(ids[3]).end()),
+              before);
     EXPECT_EQ(world.centreOfMass(ids[2]), c2);
     for (int f = 0; f < 30; ++f) world.step(); // still steps fine
     for (const BodyId id : world.bodies())
@@ -67,7 +68,8 @@ TEST(WorldApi, RemovingABodyKeepsTheOthersIntact) {
 TEST(WorldApi, BodiesOfTheSameMeshShareOneModel) {
     World world;
     const TriangleMesh mesh = ball();
-    for (int i = 0; i < 100; ++i) world.addBody(mesh, at({float(i % 10) * 1.2f, 1, float(i / 10) * 1.2f}));
+    for (int i = 0; i < 100; ++i)
+        world.addBody(mesh, at({float(i % 10) * 1.2f, 1, float(i / 10) * 1.2f}));
     const detail::WorldData& data = world.data();
     EXPECT_EQ(data.modelCache.size(), 1u);
     const detail::BodyModel* first = data.bodies.front().model.get();
