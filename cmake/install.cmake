@@ -6,6 +6,7 @@ install(TARGETS ffdaabb EXPORT ffdaabbTargets
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY include/ffdaabb DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(DIRECTORY scenes DESTINATION ${CMAKE_INSTALL_DATADIR}/ffdaabb)
 install(EXPORT ffdaabbTargets NAMESPACE ffdaabb:: FILE ffdaabbTargets.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ffdaabb)
 configure_package_config_file(cmake/ffdaabbConfig.cmake.in

@@ -1,0 +1,466 @@
+// Scene files: parsing with field-by-field validation, and building worlds from them.
+#include "ffdaabb/scene.h"
+
+#include "ffdaabb/error.h"
+#include "ffdaabb/generators.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace ffd {
+
+namespace {
+
+using Json = nlohmann::json;
+
+std::string shortValue(const Json& v) {
+    std::string s = v.dump();
+    return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+
+const char* typeName(const Json& v) {
+    switch (v.type()) {
+    case Json::value_t::null:
+        return "null";
+    case Json::value_t::boolean:
+        return "a boolean";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned:
+        return "an integer";
+    case Json::value_t::number_float:
+        return "a number";
+    case Json::value_t::string:
+        return "a string";
+    case Json::value_t::array:
+        return "an array";
+    case Json::value_t::object:
+        return "an object";
+    default:
+        return "a value";
+    }
+}
+
+// A JSON object being read: knows its path for messages, checks types and ranges, and rejects
+// fields nobody asked for.
+class Fields {
+public:
+    Fields(const Json& j, std::string path, const std::filesystem::path& file)
+        : j_(j), path_(std::move(path)), file_(file) {
+        if (!j.is_object()) fail(path_, "expected an object, got " + std::string(typeName(j)));
+    }
+
+    [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+        throw InputError(file_.string(), (field.empty() ? "" : field + ": ") + problem);
+    }
+
+    std::string at(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+
+    const Json* find(const char* key) {
+        known_.insert(key);
+        const auto it = j_.find(key);
+        return it == j_.end() ? nullptr : &*it;
+    }
+
+    bool number(const char* key, float& out, double lo, double hi, const char* expected) {
+        const Json* v = find(key);
+        if (!v) return false;
+        if (!v->is_number())
+            fail(at(key), "expected a number (" + std::string(expected) + "), got " + typeName(*v) +
+                              " " + shortValue(*v));
+        const double d = v->get<double>();
+        if (!(d >= lo && d <= hi))
+            fail(at(key),
+                 "value " + shortValue(*v) + " is out of range (expected " + expected + ")");
+        out = float(d);
+        return true;
+    }
+
+    bool integer(const char* key, int& out, long lo, long hi, const char* expected) {
+        const Json* v = find(key);
+        if (!v) return false;
+        if (!v->is_number_integer())
+            fail(at(key), "expected an integer (" + std::string(expected) + "), got " +
+                              typeName(*v) + " " + shortValue(*v));
+        const long long i = v->get<long long>();
+        if (i < lo || i > hi)
+            fail(at(key),
+                 "value " + shortValue(*v) + " is out of range (expected " + expected + ")");
+        out = int(i);
+        return true;
+    }
+
+    bool boolean(const char* key, bool& out) {
+        const Json* v = find(key);
+        if (!v) return false;
+        if (!v->is_boolean())
+            fail(at(key),
+                 "expected true or false, got " + std::string(typeName(*v)) + " " + shortValue(*v));
+        out = v->get<bool>();
+        return true;
+    }
+
+    bool string(const char* key, std::string& out) {
+        const Json* v = find(key);
+        if (!v) return false;
+        if (!v->is_string())
+            fail(at(key),
+                 "expected a string, got " + std::string(typeName(*v)) + " " + shortValue(*v));
+        out = v->get<std::string>();
+        return true;
+    }
+
+    bool vec3(const char* key, Vec3& out, double limit) {
+        const Json* v = find(key);
+        if (!v) return false;
+        if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() || !(*v)[1].is_number() ||
+            !(*v)[2].is_number())
+            fail(at(key), "expected an array of 3 numbers, got " + shortValue(*v));
+        for (int i = 0; i < 3; ++i) {
+            const double d = (*v)[size_t(i)].get<double>();
+            if (!(std::fabs(d) <= limit))
+                fail(at(key),
+                     "value " + shortValue(*v) +
+                         " is out of range (expected finite numbers of magnitude at most " +
+                         std::to_string(int(limit)) + ")");
+            out[i] = float(d);
+        }
+        return true;
+    }
+
+    /// Call last: any field not asked for is an error that lists the known ones.
+    void finish() const {
+        for (auto it = j_.begin(); it != j_.end(); ++it)
+            if (!known_.count(it.key())) {
+                std::string list;
+                for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
+                fail(at(it.key().c_str()), "unknown field (expected one of: " + list + ")");
+            }
+    }
+
+    const std::string& path() const { return path_; }
+
+private:
+    const Json& j_;
+    std::string path_;
+    const std::filesystem::path& file_;
+    std::set<std::string> known_;
+};
+
+void readWorld(Fields f, WorldSettings& w) {
+    f.number("frame_step", w.frameStep, 1e-5, 1.0, "seconds, 0 < frame_step <= 1");
+    f.integer("substeps", w.substeps, 1, 1000, "1..1000");
+    f.vec3("gravity", w.gravity, 1e4);
+    f.boolean("floor", w.floor);
+    f.number("floor_height", w.floorHeight, -1e6, 1e6, "metres, |h| <= 1e6");
+    std::string mode;
+    if (f.string("mode", mode) && !parseCollisionMode(mode, w.mode))
+        f.fail(f.at("mode"),
+               "unknown mode \"" + mode + "\" (expected enhanced, previous, brute or none)");
+    f.number("contact_skin", w.contactSkin, 0.0, 1.0, "0..1 of a cell");
+    f.integer("solver_iterations", w.solverIterations, 1, 1000, "1..1000");
+    f.integer("threads", w.threads, 0, 1024, "0 (all cores)..1024");
+    f.integer("sweep_threshold", w.sweepThreshold, 0, 1000000000, ">= 0");
+    f.finish();
+}
+
+void readLattice(Fields f, LatticeSettings& l) {
+    bool any = false;
+    int cells = 0;
+    if (f.integer("cells", cells, 1, 1000000, "1..1000000")) l.targetCells = cells, any = true;
+    float size = 0;
+    if (f.number("cell_size", size, 1e-6, 1e6, "metres, > 0")) {
+        if (any) f.fail(f.at("cell_size"), "give only one of cells, cell_size, resolution");
+        l.cellSize = size, any = true;
+    }
+    float resolution = 0;
+    if (f.number("resolution", resolution, 1e-3, 4096, "cells along the longest extent, 0..4096")) {
+        if (any) f.fail(f.at("resolution"), "give only one of cells, cell_size, resolution");
+        l.resolution = resolution;
+    }
+    f.boolean("fill_interior", l.fillInterior);
+    f.number("box_skin", l.boxSkin, 0.0, 0.25, "0..0.25 of a cell");
+    f.finish();
+}
+
+void readMaterial(Fields f, BodySettings& b) {
+    std::string model;
+    if (f.string("model", model) && !parseDynamicsModel(model, b.model))
+        f.fail(f.at("model"),
+               "unknown model \"" + model + "\" (expected shape-matching or mass-spring)");
+    f.integer("region_half_width", b.regionHalfWidth, 1, 4, "1..4");
+    f.number("stiffness", b.stiffness, 1e-6, 1.0, "0 < stiffness <= 1");
+    f.number("youngs_modulus", b.youngsModulus, 1.0, 1e12, "Pa, 1..1e12");
+    f.integer("spring_iterations", b.springIterations, 1, 1000, "1..1000");
+    f.number("density", b.density, 1e-6, 1e6, "kg/m^3, 0 < density <= 1e6");
+    f.number("mass", b.mass, 0.0, 1e9, "kg, 0 (from density) or up to 1e9");
+    f.number("damping", b.damping, 0.0, 1e4, "per second, 0..1e4");
+    f.boolean("region_damping", b.regionDamping);
+    f.number("friction", b.friction, 0.0, 10.0, "0..10");
+    f.number("restitution", b.restitution, 0.0, 1.0, "0..1");
+    f.number("contact_rigidity", b.contactRigidity, 0.0, 1.0, "0..1");
+    f.finish();
+}
+
+SceneObject readObject(Fields f, const std::filesystem::path& file) {
+    SceneObject o;
+    const Json* mesh = f.find("mesh");
+    if (!mesh) f.fail(f.at("mesh"), "missing (expected a generator name or {\"file\": ...})");
+    if (mesh->is_string()) {
+        o.mesh = mesh->get<std::string>();
+        if (o.mesh != "letters") {
+            try {
+                if (!paperFigures(o.mesh) && o.mesh.rfind("icosphere:", 0) != 0 &&
+                    o.mesh.rfind("teapot:", 0) != 0)
+                    throw InputError(o.mesh, "unknown");
+            } catch (const InputError&) {
+                f.fail(f.at("mesh"), "unknown generator \"" + o.mesh + "\" (expected letters, " +
+                                         generatorNames() + ", or {\"file\": \"path\"})");
+            }
+        }
+    } else if (mesh->is_object()) {
+        Fields m(*mesh, f.at("mesh"), file);
+        std::string path;
+        if (!m.string("file", path)) m.fail(m.at("file"), "missing (expected a mesh file path)");
+        m.finish();
+        std::filesystem::path p(path);
+        if (p.is_relative() && !file.empty()) p = file.parent_path() / p;
+        if (!std::filesystem::exists(p))
+            m.fail(m.at("file"), "\"" + path + "\" does not exist (looked for " + p.string() + ")");
+        o.mesh.clear();
+        o.meshFile = p;
+    } else {
+        f.fail(f.at("mesh"),
+               "expected a generator name or {\"file\": ...}, got " + shortValue(*mesh));
+    }
+    if (f.string("letters", o.letters)) {
+        if (o.mesh != "letters") f.fail(f.at("letters"), "only for \"mesh\": \"letters\"");
+        if (o.letters.empty()) f.fail(f.at("letters"), "expected at least one capital letter A-Z");
+        for (char c : o.letters)
+            if (c < 'A' || c > 'Z')
+                f.fail(f.at("letters"), "\"" + o.letters + "\" has a character outside A-Z");
+    }
+    f.integer("count", o.count, 1, 1000000, "1..1000000");
+    f.number("size", o.size, 1e-4, 1e4, "metres, 1e-4..1e4");
+    o.body.lattice.targetCells = 64;
+    if (const Json* l = f.find("lattice"))
+        readLattice(Fields(*l, f.at("lattice"), file), o.body.lattice);
+    if (const Json* m = f.find("material"))
+        readMaterial(Fields(*m, f.at("material"), file), o.body);
+    f.finish();
+    return o;
+}
+
+void readLayout(Fields f, SceneLayout& l) {
+    f.vec3("origin", l.origin, 1e6);
+    if (const Json* c = f.find("columns")) {
+        if (!c->is_array() || c->size() != 2 || !(*c)[0].is_number_integer() ||
+            !(*c)[1].is_number_integer() || (*c)[0].get<long long>() < 1 ||
+            (*c)[1].get<long long>() < 1 || (*c)[0].get<long long>() > 10000 ||
+            (*c)[1].get<long long>() > 10000)
+            f.fail(f.at("columns"), "expected two integers 1..10000, got " + shortValue(*c));
+        l.columns[0] = int((*c)[0].get<long long>());
+        l.columns[1] = int((*c)[1].get<long long>());
+    }
+    f.number("spacing", l.spacing, 1e-4, 1e4, "metres, > 0");
+    f.number("jitter", l.jitter, 0.0, 0.5, "0..0.5 of the spacing");
+    f.boolean("random_rotation", l.randomRotation);
+    f.vec3("velocity", l.velocity, 1e4);
+    f.number("velocity_jitter", l.velocityJitter, 0.0, 1e4, "m/s, >= 0");
+    int seed = int(l.seed);
+    if (f.integer("seed", seed, 0, 2147483647, "0..2147483647")) l.seed = uint32_t(seed);
+    f.finish();
+}
+
+// Deterministic on every platform (std distributions are not): splitmix64.
+struct Random {
+    uint64_t state;
+    uint64_t next() {
+        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    float uniform(float lo, float hi) {
+        return lo + (hi - lo) * float(next() >> 40) / float(1 << 24);
+    }
+    Quat rotation() {
+        // Uniform on SO(3) (Shoemake's method).
+        const float u1 = uniform(0, 1), u2 = uniform(0, 6.2831853f), u3 = uniform(0, 6.2831853f);
+        const float a = std::sqrt(1 - u1), b = std::sqrt(u1);
+        return normalize(
+            Quat{b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3)});
+    }
+};
+
+std::vector<std::filesystem::path> sceneFolders() {
+    std::vector<std::filesystem::path> folders;
+    if (const char* env = std::getenv("FFDAABB_SCENES"); env && *env) folders.emplace_back(env);
+    folders.emplace_back(std::filesystem::path(FFD_SOURCE_DIR) / "scenes");
+    folders.emplace_back(std::filesystem::path(FFD_INSTALL_DATADIR) / "scenes");
+    return folders;
+}
+
+} // namespace
+
+int Scene::objectCount() const {
+    int n = 0;
+    for (const SceneObject& o : objects) n += o.count;
+    return n;
+}
+
+Scene parseScene(const std::string& text, const std::filesystem::path& file) {
+    Json j;
+    try {
+        j = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
+    }
+    Scene scene;
+    scene.source = file;
+    Fields f(j, "", file);
+    f.string("name", scene.name);
+    f.string("description", scene.description);
+    if (scene.name.empty()) scene.name = file.stem().string();
+    if (const Json* w = f.find("world")) readWorld(Fields(*w, "world", file), scene.world);
+    const Json* objects = f.find("objects");
+    if (!objects) f.fail("objects", "missing (expected an array of objects)");
+    if (!objects->is_array() || objects->empty())
+        f.fail("objects", "expected a non-empty array of objects, got " + shortValue(*objects));
+    for (size_t i = 0; i < objects->size(); ++i)
+        scene.objects.push_back(
+            readObject(Fields((*objects)[i], "objects[" + std::to_string(i) + "]", file), file));
+    if (const Json* l = f.find("layout")) readLayout(Fields(*l, "layout", file), scene.layout);
+    f.finish();
+    validate(scene.world);
+    for (const SceneObject& o : scene.objects) validate(o.body);
+    return scene;
+}
+
+Scene loadScene(const std::string& nameOrPath) {
+    std::filesystem::path path(nameOrPath);
+    const bool isFile = nameOrPath.find('/') != std::string::npos || path.extension() == ".json";
+    if (!isFile) {
+        bool found = false;
+        for (const auto& folder : sceneFolders())
+            if (std::filesystem::exists(folder / (nameOrPath + ".json"))) {
+                path = folder / (nameOrPath + ".json");
+                found = true;
+                break;
+            }
+        if (!found) {
+            std::string names;
+            for (const std::string& n : sceneNames()) names += (names.empty() ? "" : ", ") + n;
+            throw InputError(nameOrPath,
+                             "no such scene (expected a .json file or one of: " + names + ")");
+        }
+    }
+    if (!std::filesystem::exists(path))
+        throw InputError(path.string(), "does not exist (expected a scene .json file)");
+    if (!std::filesystem::is_regular_file(path))
+        throw InputError(path.string(), "is not a regular file (expected a scene .json file)");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path.string(), "cannot be read");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parseScene(ss.str(), path);
+}
+
+std::vector<std::string> sceneNames() {
+    std::set<std::string> names;
+    for (const auto& folder : sceneFolders()) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(folder, ec)) continue;
+        for (const auto& e : std::filesystem::directory_iterator(folder, ec))
+            if (e.path().extension() == ".json") names.insert(e.path().stem().string());
+    }
+    return {names.begin(), names.end()};
+}
+
+void setObjectCount(Scene& scene, int count) {
+    if (count < 1)
+        throw InputError("--objects", "must be at least 1, got " + std::to_string(count));
+    const int total = scene.objectCount();
+    int assigned = 0;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        SceneObject& o = scene.objects[i];
+        const int share = i + 1 == scene.objects.size()
+                              ? count - assigned
+                              : int(std::lround(double(o.count) * count / total));
+        o.count = std::max(1, share);
+        assigned += o.count;
+    }
+}
+
+SceneBuild buildScene(const Scene& scene) {
+    const auto start = std::chrono::steady_clock::now();
+    SceneBuild out{World(scene.world), {}, 0, 0, 0, 0, 0, 0};
+    // Each distinct mesh is made once; the World shares lattices between identical ones.
+    std::map<std::string, TriangleMesh> meshes;
+    auto meshFor = [&](const SceneObject& o, int index) -> const TriangleMesh& {
+        std::string key;
+        if (!o.meshFile.empty())
+            key = "file:" + o.meshFile.string();
+        else if (o.mesh == "letters")
+            key = std::string("letter:") + o.letters[size_t(index) % o.letters.size()];
+        else
+            key = o.mesh;
+        key += '@';
+        key += std::to_string(o.size);
+        auto it = meshes.find(key);
+        if (it == meshes.end()) {
+            TriangleMesh m;
+            if (!o.meshFile.empty()) {
+                m = loadMesh(o.meshFile);
+                cleanup(m);
+                m.name = o.meshFile.string();
+            } else {
+                m = generate(key.substr(0, key.find('@')));
+            }
+            normalizeSize(m, o.size);
+            it = meshes.emplace(key, std::move(m)).first;
+        }
+        return it->second;
+    };
+
+    const SceneLayout& L = scene.layout;
+    Random rng{uint64_t(L.seed) * 0x2545F4914F6CDD1Dull + 1};
+    const int perLayer = L.columns[0] * L.columns[1];
+    int slot = 0;
+    for (const SceneObject& o : scene.objects)
+        for (int i = 0; i < o.count; ++i, ++slot) {
+            const TriangleMesh& mesh = meshFor(o, i);
+            const int layer = slot / perLayer, r = slot % perLayer;
+            const int ix = r % L.columns[0], iz = r / L.columns[0];
+            BodySettings s = o.body;
+            const float j = L.jitter * L.spacing;
+            s.position = L.origin +
+                         Vec3{(float(ix) - 0.5f * float(L.columns[0] - 1)) * L.spacing,
+                              float(layer) * L.spacing,
+                              (float(iz) - 0.5f * float(L.columns[1] - 1)) * L.spacing} +
+                         Vec3{rng.uniform(-j, j), rng.uniform(-j, j), rng.uniform(-j, j)};
+            s.rotation = L.randomRotation ? rng.rotation() : Quat{};
+            s.velocity =
+                L.velocity +
+                Vec3{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)} * L.velocityJitter;
+            const BodyId id = out.world.addBody(mesh, s);
+            out.bodies.push_back(id);
+            const BodyInfo info = out.world.info(id);
+            out.vertices += info.vertices;
+            out.triangles += info.triangles;
+            out.cells += info.cells;
+            out.particles += info.particles;
+            out.nodes += info.surfaceCells * 8;
+        }
+    out.buildMilliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+} // namespace ffd
