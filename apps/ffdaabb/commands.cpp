@@ -8,6 +8,7 @@ Action gSelected;
 
 void registerCommands(CLI::App& app) {
     addMeshInfoCommand(app, gSelected);
+    addRunCommand(app, gSelected);
 }
 
 int runSelected(CLI::App&) {

@@ -1,10 +1,13 @@
 // The subcommands of the ffdaabb CLI. Each cmd_*.cpp defines one add<Name>Command function that
-// adds its subcommand (options bound to a settings struct) and sets the callback to run.
+// adds its subcommand (options bound to a settings struct) and sets the action to run.
 #pragma once
+
+#include "ffdaabb/scene.h"
 
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <string>
 
 namespace ffd::cli {
 
@@ -17,7 +20,12 @@ using Action = std::function<int()>;
 void registerCommands(CLI::App& app);
 int runSelected(CLI::App& app);
 
-/// Called by each subcommand's file.
 void addMeshInfoCommand(CLI::App& app, Action& action);
+void addRunCommand(CLI::App& app, Action& action);
+
+/// A scene with the overrides shared by run/bench/render/view applied (0, "" or -1: keep the
+/// scene's). Throws InputError naming the flag for a bad value.
+Scene sceneFromOptions(const std::string& name, int objects, const std::string& mode, int threads,
+                       long long seed);
 
 } // namespace ffd::cli

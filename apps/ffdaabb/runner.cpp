@@ -1,0 +1,163 @@
+#include "runner.h"
+
+#include "ffdaabb/error.h"
+#include "util/atomic_file.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+namespace ffd::cli {
+
+namespace {
+
+std::array<double, kStageCount> stages(const Profile& p) {
+    return {p.dynamics,        p.nodeUpdate, p.sphereTest, p.floor,
+            p.objectCollision, p.meshUpdate, p.total};
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + ptrdiff_t(mid), v.end());
+    double m = v[mid];
+    if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + ptrdiff_t(mid)));
+    return m;
+}
+
+} // namespace
+
+RunResult runScene(const Scene& scene, const RunOptions& options,
+                   const std::function<void(const SceneBuild&)>& atEnd) {
+    RunResult r;
+    r.scene = scene.name;
+    r.mode = toString(scene.world.mode);
+    r.objects = scene.objectCount();
+    r.frames = options.frames;
+    r.warmup = options.warmup;
+    r.threads = scene.world.threads;
+    r.seed = scene.layout.seed;
+    SceneBuild build = buildScene(scene);
+    r.vertices = build.vertices;
+    r.triangles = build.triangles;
+    r.cells = build.cells;
+    r.particles = build.particles;
+    r.nodes = build.nodes;
+    r.buildMs = build.buildMilliseconds;
+
+    const auto start = std::chrono::steady_clock::now();
+    const int total = options.warmup + options.frames;
+    for (int f = 0; f < total; ++f) {
+        build.world.step();
+        if (f >= options.warmup) {
+            const Profile& p = build.world.profile();
+            r.frameMs.push_back(stages(p));
+            r.candidatePairs += p.candidatePairs;
+            r.potentialPairs += p.potentialPairs;
+            r.contacts += p.contacts;
+            r.floorContacts += p.floorContacts;
+            r.maxPenetration = std::max(r.maxPenetration, double(p.maxPenetration));
+        }
+        if (options.progress) options.progress(f + 1, total);
+    }
+    r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double n = std::max(1, options.frames);
+    r.candidatePairs /= n, r.potentialPairs /= n, r.contacts /= n, r.floorContacts /= n;
+    for (int s = 0; s < kStageCount; ++s) {
+        std::vector<double> v;
+        for (const auto& f : r.frameMs) v.push_back(f[size_t(s)]);
+        double sum = 0;
+        for (double x : v) sum += x;
+        r.meanMs[s] = v.empty() ? 0 : sum / double(v.size());
+        r.medianMs[s] = median(v);
+    }
+    r.stateHash = build.world.stateHash();
+    for (BodyId id : build.bodies) {
+        for (const Vec3& p : build.world.particles(id)) r.finite = r.finite && isFinite(p);
+        for (const Vec3& p : build.world.velocities(id)) r.finite = r.finite && isFinite(p);
+    }
+    if (atEnd) atEnd(build);
+    return r;
+}
+
+nlohmann::json statsJson(const RunResult& r) {
+    nlohmann::json stage, med;
+    for (int s = 0; s < kStageCount; ++s) {
+        stage[kStageNames[s]] = r.meanMs[s];
+        med[kStageNames[s]] = r.medianMs[s];
+    }
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.stateHash));
+    return {{"scene", r.scene},
+            {"mode", r.mode},
+            {"objects", r.objects},
+            {"vertices", r.vertices},
+            {"triangles", r.triangles},
+            {"cells", r.cells},
+            {"particles", r.particles},
+            {"box_nodes", r.nodes},
+            {"vertices_per_object", double(r.vertices) / std::max(1, r.objects)},
+            {"triangles_per_object", double(r.triangles) / std::max(1, r.objects)},
+            {"cells_per_object", double(r.cells) / std::max(1, r.objects)},
+            {"frames", r.frames},
+            {"warmup_frames", r.warmup},
+            {"threads", r.threads},
+            {"seed", r.seed},
+            {"stage_ms", stage},
+            {"stage_ms_median", med},
+            {"frames_per_second", r.framesPerSecond()},
+            {"candidate_pairs", r.candidatePairs},
+            {"potential_pairs", r.potentialPairs},
+            {"contacts", r.contacts},
+            {"floor_contacts", r.floorContacts},
+            {"max_penetration", r.maxPenetration},
+            {"state_hash", hash},
+            {"finite", r.finite},
+            {"build_ms", r.buildMs},
+            {"wall_seconds", r.wallSeconds}};
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    AtomicFile file(path);
+    std::fwrite(text.data(), 1, text.size(), file.handle());
+    file.commit();
+}
+
+std::function<void(int, int)> progressBar(const std::string& label) {
+    if (!::isatty(2)) return {};
+    return [label, last = -1](int done, int total) mutable {
+        const int percent = total > 0 ? done * 100 / total : 100;
+        if (percent == last && done != total) return;
+        last = percent;
+        const int width = 40, filled = width * percent / 100;
+        fmt::print(stderr, "\r{} [{}{}] {:3d}% ({}/{} frames)", label,
+                   std::string(size_t(filled), '#'), std::string(size_t(width - filled), ' '),
+                   percent, done, total);
+        if (done == total) fmt::print(stderr, "\n");
+        std::fflush(stderr);
+    };
+}
+
+void exportObj(const SceneBuild& build, const std::string& path) {
+    AtomicFile file(path);
+    std::FILE* f = file.handle();
+    std::fprintf(f, "# ffdaabb: %zu bodies, final deformed meshes\n", build.bodies.size());
+    size_t base = 1;
+    for (size_t i = 0; i < build.bodies.size(); ++i) {
+        const BodyId id = build.bodies[i];
+        std::fprintf(f, "o body_%zu\n", i);
+        const auto vertices = build.world.vertices(id);
+        for (const Vec3& v : vertices)
+            std::fprintf(f, "v %.7g %.7g %.7g\n", double(v.x), double(v.y), double(v.z));
+        for (const auto& t : build.world.triangles(id))
+            std::fprintf(f, "f %zu %zu %zu\n", t[0] + base, t[1] + base, t[2] + base);
+        base += vertices.size();
+    }
+    file.commit();
+}
+
+} // namespace ffd::cli

@@ -1,0 +1,57 @@
+// Running a scene for N frames and collecting what the stats, the summary and the benchmark
+// tables report. Shared by `ffdaabb run` and `ffdaabb bench`.
+#pragma once
+
+#include "ffdaabb/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ffd::cli {
+
+/// Stage names in the order of DESIGN.md (also the JSON keys).
+inline constexpr const char* kStageNames[] = {
+    "dynamics", "node_update", "sphere_test", "floor", "object_collision", "mesh_update", "total"};
+inline constexpr int kStageCount = 7;
+
+struct RunOptions {
+    int frames = 300;
+    int warmup = 0;                                    ///< frames stepped before timing starts
+    std::function<void(int done, int total)> progress; ///< called after each frame
+};
+
+struct RunResult {
+    std::string scene, mode;
+    int objects = 0, frames = 0, warmup = 0, threads = 1;
+    uint32_t seed = 0;
+    size_t vertices = 0, triangles = 0, cells = 0, particles = 0, nodes = 0;
+    double buildMs = 0, wallSeconds = 0;
+    std::vector<std::array<double, kStageCount>> frameMs; ///< per timed frame
+    double meanMs[kStageCount] = {}, medianMs[kStageCount] = {};
+    double candidatePairs = 0, potentialPairs = 0, contacts = 0, floorContacts = 0; ///< means
+    double maxPenetration = 0;
+    uint64_t stateHash = 0;
+    bool finite = true;
+    double framesPerSecond() const { return meanMs[6] > 0 ? 1000.0 / meanMs[6] : 0; }
+};
+
+/// Builds the scene and steps it; `build` receives the built scene (to export meshes etc.).
+RunResult runScene(const Scene& scene, const RunOptions& options,
+                   const std::function<void(const SceneBuild&)>& atEnd = {});
+
+/// The --stats JSON object (every key of DESIGN.md's contract, and more).
+nlohmann::json statsJson(const RunResult& r);
+
+/// Writes text to a file through a temporary name (nothing half-written is left behind).
+void writeTextFile(const std::string& path, const std::string& text);
+
+/// A progress bar on stderr when it is a terminal; nothing otherwise.
+std::function<void(int, int)> progressBar(const std::string& label);
+
+/// Writes every body's final deformed mesh into one OBJ, one `o body_<i>` group per body.
+void exportObj(const SceneBuild& build, const std::string& path);
+
+} // namespace ffd::cli
