@@ -137,7 +137,10 @@ struct CollisionState {
     std::vector<uint8_t> isCandidate;             ///< per body
     std::vector<uint32_t> sweepOrder;
     SpatialHash hash;
-    std::vector<BoxPlanes> planes; ///< per box, for the narrow phase
+    std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
+    std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
+    uint32_t stamp = 0;
+    std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<Contact> floorContacts, objectContacts, all;
     std::vector<uint32_t> nodeBody, boxBody; ///< world-wide node/box -> dense body
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase

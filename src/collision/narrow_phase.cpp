@@ -42,11 +42,17 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
     NodeBoxHit hit;
     if (!nodeBounds.contains(p, skin)) return hit;
     float d[6];
+    int farthest = 0;
     for (int f = 0; f < 6; ++f) {
         d[f] = dot(planes.normal[f], p) - planes.offset[f];
         if (!(d[f] < skin)) return hit;
+        if (d[f] > d[farthest]) farthest = f;
     }
+    // A node outside the box (within the skin) through a face that leads into the object's own
+    // next cell belongs to that cell's box, not this one: taken here it would be pushed out
+    // through some far outside face as if it were deep inside.
     const uint8_t candidates = outsideFaces ? outsideFaces : uint8_t(63);
+    if (d[farthest] > 0 && !((candidates >> farthest) & 1)) return hit;
     float best = -INFINITY;
     for (int f = 0; f < 6; ++f)
         if ((candidates >> f) & 1)

@@ -7,6 +7,8 @@
 // distance to all six planes is below the skin. The contact normal is that of the outside face
 // (neighbouring lattice cell empty) with the largest signed distance: the nearest way out that
 // leads out of the object, not into its neighbouring cell; all faces count when none is outside.
+// A node lying outside the box (within the skin) beyond a face that is not an outside face
+// gets no contact from this box: it is in the neighbouring cell's region.
 // Pure functions: no world needed, so they are tested on their own.
 #pragma once
 

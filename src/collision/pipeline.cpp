@@ -244,22 +244,27 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     const uint32_t n = uint32_t(w.bodies.size());
     if (mode == CollisionMode::None || n < 2) return;
 
+    // Box planes are built on first use in a step: most boxes never meet another body's node.
+    s.planeStamp.resize(s.planes.size(), 0);
+    if (++s.stamp == 0) std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0), s.stamp = 1;
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node) {
         ++outPotential;
         const BodyRecord& B = w.bodies[bodyB];
-        const NodeBoxHit hit = testNodeInBox(s.planes[box], w.boxBounds[box],
-                                             B.model->lattice.boxes[box - B.firstBox].outsideFaces,
-                                             w.nodes[node], skinOf(w, B));
+        const float margin = marginOf(w, w.bodies[bodyA], B);
+        const Vec3 p = w.nodes[node];
+        if (!w.boxBounds[box].contains(p, margin)) return;
+        if (s.planeStamp[box] != s.stamp) {
+            s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
+            s.planeStamp[box] = s.stamp;
+        }
+        const NodeBoxHit hit =
+            testNodeInBox(s.planes[box], w.boxBounds[box],
+                          B.model->lattice.boxes[box - B.firstBox].outsideFaces, p, margin);
         if (hit.inside)
             out.push_back(makeObjectContact(w, bodyA, node, bodyB, box, hit, s.planes[box]));
     };
-    auto planesOf = [&](const BodyRecord& B) {
-        for (uint32_t k = B.firstBox; k < B.firstBox + B.boxCount; ++k)
-            s.planes[k] = boxPlanes(&w.nodes[size_t(k) * 8]);
-    };
 
     if (mode == CollisionMode::Brute) {
-        for (uint32_t b = 0; b < n; ++b) planesOf(w.bodies[b]);
         for (uint32_t b = 0; b < n; ++b) {
             const BodyRecord& B = w.bodies[b];
             for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box)
@@ -292,41 +297,50 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         if (!isCandidate(b)) continue;
         const BodyRecord& r = w.bodies[b];
         for (uint32_t node = r.firstBox * 8; node < (r.firstBox + r.boxCount) * 8; ++node)
-            s.hash.insert(node, w.nodes[node]);
+            s.hash.add(node, b, w.nodes[node]);
     }
-    // Each box of a candidate object visits the hash cells its node bounds (grown by the skin)
-    // overlap and tests the nodes of the other objects it forms a candidate pair with.
-    float fastest = 0;
-    for (uint32_t b = 0; b < n; ++b)
-        if (isCandidate(b)) fastest = std::fmax(fastest, w.bodies[b].maxSpeed);
+    s.hash.build();
+    // Each box of a candidate object visits the hash cells its node bounds (grown by the
+    // largest margin any of its partners can need) overlap and tests the nodes of the other
+    // objects it forms a candidate pair with.
+    s.partnerMark.assign(n, 0);
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
-        // The largest margin any partner can need: the hash query must reach that far.
-        const float skin = skinOf(w, B) + w.substep * (B.maxSpeed + fastest);
-        planesOf(B);
-        const uint32_t* partners = enhanced ? &s.partners[s.partnerStart[b]] : nullptr;
-        const uint32_t partnerCount = enhanced ? s.partnerStart[b + 1] - s.partnerStart[b] : 0;
-        auto isPartner = [&](uint32_t a) {
-            if (!enhanced) return a != b;
-            for (uint32_t k = 0; k < partnerCount; ++k)
-                if (partners[k] == a) return true;
-            return false;
-        };
+        float fastestPartner = 0;
+        if (enhanced) {
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
+                s.partnerMark[s.partners[k]] = 1;
+                fastestPartner = std::fmax(fastestPartner, w.bodies[s.partners[k]].maxSpeed);
+            }
+        } else {
+            std::fill(s.partnerMark.begin(), s.partnerMark.end(), 1);
+            s.partnerMark[b] = 0;
+            for (uint32_t a = 0; a < n; ++a)
+                if (a != b) fastestPartner = std::fmax(fastestPartner, w.bodies[a].maxSpeed);
+        }
+        const float reach = skinOf(w, B) + w.substep * (B.maxSpeed + fastestPartner);
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             const Aabb& bb = w.boxBounds[box];
-            const int32_t i0 = s.hash.cell(bb.lo.x - skin), i1 = s.hash.cell(bb.hi.x + skin);
-            const int32_t j0 = s.hash.cell(bb.lo.y - skin), j1 = s.hash.cell(bb.hi.y + skin);
-            const int32_t k0 = s.hash.cell(bb.lo.z - skin), k1 = s.hash.cell(bb.hi.z + skin);
+            const int32_t i0 = s.hash.cell(bb.lo.x - reach), i1 = s.hash.cell(bb.hi.x + reach);
+            const int32_t j0 = s.hash.cell(bb.lo.y - reach), j1 = s.hash.cell(bb.hi.y + reach);
+            const int32_t k0 = s.hash.cell(bb.lo.z - reach), k1 = s.hash.cell(bb.hi.z + reach);
+            if (i1 - i0 > 100 || j1 - j0 > 100 || k1 - k0 > 100) {
+                fprintf(stderr, "DEBUG reach %g box %u bb %g %g %g - %g %g %g cell %g\n", reach,
+                        box, bb.lo.x, bb.lo.y, bb.lo.z, bb.hi.x, bb.hi.y, bb.hi.z,
+                        s.hash.cellSize());
+                abort();
+            }
             for (int32_t k = k0; k <= k1; ++k)
                 for (int32_t j = j0; j <= j1; ++j)
                     for (int32_t i = i0; i <= i1; ++i)
-                        s.hash.forEachInCell(i, j, k, [&](uint32_t node) {
-                            const uint32_t a = s.nodeBody[node];
-                            if (a == b || !isPartner(a)) return;
-                            testBox(b, box, a, node);
+                        s.hash.forEachInCell(i, j, k, [&](const SpatialHash::Entry& e) {
+                            if (s.partnerMark[e.owner]) testBox(b, box, e.owner, e.item);
                         });
         }
+        if (enhanced)
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
+                s.partnerMark[s.partners[k]] = 0;
     }
     sortContacts(out);
 }

@@ -20,17 +20,46 @@ uint32_t nextPrime(uint32_t n) {
 void SpatialHash::begin(size_t expectedEntries, float cellSize) {
     cellSize_ = cellSize;
     inverseCellSize_ = 1.0f / cellSize;
-    entries_.clear();
-    entries_.reserve(expectedEntries);
+    staged_.clear();
+    staged_.reserve(expectedEntries);
     const size_t wanted = 2 * expectedEntries + 1;
     if (buckets_.size() < wanted) {
-        // Grow (never shrink, so steady state reuses the table); fresh buckets carry stamp 0.
+        // Grow (never shrink, so the steady state reuses the table); fresh buckets carry stamp 0.
         buckets_.assign(nextPrime(uint32_t(wanted)), Bucket{});
         stamp_ = 0;
     }
     if (++stamp_ == 0) { // wrapped after 2^32 steps: clear once
         for (Bucket& b : buckets_) b.stamp = 0;
         stamp_ = 1;
+    }
+}
+
+void SpatialHash::build() {
+    // Pass 1: count per bucket; a bucket whose stamp is old is empty (no clearing needed).
+    touched_.clear();
+    slotOf_.resize(staged_.size());
+    for (size_t n = 0; n < staged_.size(); ++n) {
+        const Entry& e = staged_[n];
+        const uint32_t h = bucket(e.i, e.j, e.k);
+        Bucket& b = buckets_[h];
+        if (b.stamp != stamp_) {
+            b.stamp = stamp_;
+            b.count = 0;
+            touched_.push_back(h);
+        }
+        slotOf_[n] = b.count++;
+    }
+    // Offsets over the touched buckets only, in the order they were first touched.
+    uint32_t offset = 0;
+    for (uint32_t h : touched_) {
+        buckets_[h].start = offset;
+        offset += buckets_[h].count;
+    }
+    // Pass 2: place, keeping insertion order within each bucket (deterministic).
+    entries_.resize(staged_.size());
+    for (size_t n = 0; n < staged_.size(); ++n) {
+        const Entry& e = staged_[n];
+        entries_[buckets_[bucket(e.i, e.j, e.k)].start + slotOf_[n]] = e;
     }
 }
 

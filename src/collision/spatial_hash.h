@@ -4,8 +4,12 @@
 // Spatial Hashing for Collision Detection of Deformable Objects", VMV 2003. A point p falls in
 // grid cell floor(p / l); cell (i,j,k) maps to bucket (i*73856093 xor j*19349663 xor
 // k*83492791) mod T with T prime. Buckets carry a timestamp instead of being cleared, so a
-// query costs nothing for the buckets a step does not touch. Each entry keeps its exact cell,
-// so two cells sharing a bucket never mix and a box visiting both sees each node once.
+// step costs nothing for the buckets it does not touch.
+//
+// The table is filled in two passes (count, then place: a counting sort into the touched
+// buckets), so each bucket's entries lie contiguous in memory and a query scans an array
+// instead of chasing a linked list. Each entry keeps its exact cell and its owner, so two
+// cells sharing a bucket never mix and a query can skip entries cheaply.
 #pragma once
 
 #include "ffdaabb/math.h"
@@ -21,28 +25,31 @@ uint32_t nextPrime(uint32_t n);
 
 class SpatialHash {
 public:
+    struct Entry {
+        int32_t i, j, k;
+        uint32_t item;  ///< caller's id (a node index)
+        uint32_t owner; ///< caller's group (a body index)
+    };
+
     /// Starts a new step: a table of at least 2 * expectedEntries buckets (prime), cell size l.
     void begin(size_t expectedEntries, float cellSize);
 
-    /// Inserts `item` at point p.
-    void insert(uint32_t item, Vec3 p) {
-        const int32_t i = cell(p.x), j = cell(p.y), k = cell(p.z);
-        const uint32_t h = bucket(i, j, k);
-        Bucket& b = buckets_[h];
-        if (b.stamp != stamp_) b.stamp = stamp_, b.head = kNone;
-        entries_.push_back({i, j, k, item, b.head});
-        b.head = uint32_t(entries_.size() - 1);
+    /// Stages an item at point p; the table is built by build().
+    void add(uint32_t item, uint32_t owner, Vec3 p) {
+        staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner});
     }
 
-    /// Calls f(item) for every item inserted in grid cell (i,j,k) this step.
+    /// Sorts the staged items into their buckets (two passes, timestamps, no clearing).
+    void build();
+
+    /// Calls f(entry) for every item in grid cell (i,j,k).
     template <class F>
     void forEachInCell(int32_t i, int32_t j, int32_t k, F&& f) const {
         const Bucket& b = buckets_[bucket(i, j, k)];
         if (b.stamp != stamp_) return;
-        for (uint32_t e = b.head; e != kNone; e = entries_[e].next) {
-            const Entry& en = entries_[e];
-            if (en.i == i && en.j == j && en.k == k) f(en.item);
-        }
+        const Entry* e = entries_.data() + b.start;
+        for (uint32_t n = 0; n < b.count; ++n)
+            if (e[n].i == i && e[n].j == j && e[n].k == k) f(e[n]);
     }
 
     int32_t cell(float v) const { return int32_t(std::floor(v * inverseCellSize_)); }
@@ -51,15 +58,10 @@ public:
     size_t entryCount() const { return entries_.size(); }
 
 private:
-    static constexpr uint32_t kNone = UINT32_MAX;
     struct Bucket {
         uint32_t stamp = 0;
-        uint32_t head = kNone;
-    };
-    struct Entry {
-        int32_t i, j, k;
-        uint32_t item;
-        uint32_t next;
+        uint32_t start = 0;
+        uint32_t count = 0;
     };
 
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
@@ -69,7 +71,8 @@ private:
     }
 
     std::vector<Bucket> buckets_;
-    std::vector<Entry> entries_;
+    std::vector<Entry> staged_, entries_;
+    std::vector<uint32_t> touched_, slotOf_;
     uint32_t stamp_ = 0;
     float cellSize_ = 1, inverseCellSize_ = 1;
 };

@@ -134,14 +134,17 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
     std::vector<Vec3> points(500);
     for (uint32_t i = 0; i < points.size(); ++i) {
         points[i] = {u(rng), u(rng), u(rng)};
-        hash.insert(i, points[i]);
+        hash.add(i, i % 7, points[i]);
     }
+    hash.build();
     for (int k = -5; k < 5; ++k)
         for (int j = -5; j < 5; ++j)
             for (int i = -5; i < 5; ++i) {
                 std::set<uint32_t> found;
-                hash.forEachInCell(i, j, k,
-                                   [&](uint32_t item) { EXPECT_TRUE(found.insert(item).second); });
+                hash.forEachInCell(i, j, k, [&](const detail::SpatialHash::Entry& e) {
+                    EXPECT_TRUE(found.insert(e.item).second);
+                    EXPECT_EQ(e.owner, e.item % 7);
+                });
                 for (uint32_t p = 0; p < points.size(); ++p) {
                     const bool inCell = hash.cell(points[p].x) == i &&
                                         hash.cell(points[p].y) == j && hash.cell(points[p].z) == k;
@@ -150,9 +153,10 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
             }
     // A new step forgets the old items without clearing the table.
     hash.begin(1, 1.0f);
+    hash.build();
     int seen = 0;
     hash.forEachInCell(hash.cell(points[0].x), hash.cell(points[0].y), hash.cell(points[0].z),
-                       [&](uint32_t) { ++seen; });
+                       [&](const detail::SpatialHash::Entry&) { ++seen; });
     EXPECT_EQ(seen, 0);
     EXPECT_EQ(detail::nextPrime(1000), 1009u);
     EXPECT_EQ(detail::nextPrime(2), 2u);
