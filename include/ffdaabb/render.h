@@ -85,6 +85,17 @@ Vec3 projectToPixel(const Camera& camera, int width, int height, Vec3 point);
 void pixelRay(const Camera& camera, int width, int height, float x, float y, Vec3& outOrigin,
               Vec3& outDirection);
 
+/// What lies under a pixel.
+struct Pick {
+    BodyId body;           ///< null when the ray hits no body
+    uint32_t particle = 0; ///< the body's lattice particle nearest the hit point
+    Vec3 point;            ///< where the ray meets the deformed mesh
+    float distance = 0;    ///< from the eye to `point`
+};
+/// The body whose deformed mesh the ray through pixel position (x, y) meets first
+/// (projectToPixel's convention), for picking and dragging.
+Pick pickBody(const World& world, const Camera& camera, int width, int height, float x, float y);
+
 /// The overlays of the collision pipeline, all off by default.
 struct Overlays {
     bool spheres = false;  ///< bounding spheres, yellow wireframes (the paper's Fig. 3)
@@ -99,15 +110,25 @@ struct Line {
     Vec3 colour{1, 1, 1}; ///< sRGB, [0, 1]
 };
 
+/// How edges are smoothed.
+enum class Antialiasing : uint8_t {
+    Auto, ///< Msaa on GPUs; Fxaa on software renderers (llvmpipe), where multisampling costs
+          ///< about 2.5 times the frame
+    Msaa, ///< multisampling with DrawOptions::samples samples
+    Fxaa, ///< a post-process on the single-sampled image (Lottes, "FXAA", NVIDIA 2009)
+    None,
+};
+
 /// What to draw and how.
 struct DrawOptions {
     Overlays overlays;
     bool meshes = true;
-    bool floor = true;      ///< drawn only when the world has a floor
-    bool grid = true;       ///< grid lines on the floor
-    bool shadows = true;    ///< planar shadows of the meshes on the floor
-    float gridSpacing = 0;  ///< metres between grid lines; <= 0 chooses from the scene's size
-    int samples = 4;        ///< multisampling (1 = none); clamped to what the context offers
+    bool floor = true;     ///< drawn only when the world has a floor
+    bool grid = true;      ///< grid lines on the floor
+    bool shadows = true;   ///< planar shadows of the meshes on the floor
+    float gridSpacing = 0; ///< metres between grid lines; <= 0 chooses from the scene's size
+    Antialiasing antialiasing = Antialiasing::Auto;
+    int samples = 4;        ///< multisampling samples for Msaa; clamped to what the context offers
     float lineWidth = 1.5f; ///< overlay lines, pixels (clamped to the context's range)
     Vec3 background{0.82f, 0.86f, 0.90f}; ///< sRGB
     /// Overlays also show faintly where they are hidden behind meshes.
@@ -148,6 +169,8 @@ public:
     /// GL_VERSION and GL_RENDERER of the context, e.g. "4.5 (Core Profile) Mesa 22.3.6,
     /// llvmpipe (LLVM 15.0.6, 256 bits)".
     std::string glInfo() const;
+    /// Whether the context renders on the CPU (llvmpipe, softpipe): Antialiasing::Auto's choice.
+    bool softwareRenderer() const;
 
 private:
     struct Impl;

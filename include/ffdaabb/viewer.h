@@ -84,6 +84,15 @@ public:
     DrawOptions& drawOptions();
     Camera camera() const;
     void setCamera(const Camera& camera);
+    /// The window's size in screen coordinates, which grab positions and the camera refer to.
+    void windowSize(int& outWidth, int& outHeight) const;
+    /// Grabs the body under window position (x, y) as a left-drag there would (pickBody);
+    /// false when there is none. While held, each step pulls the grabbed particle towards the
+    /// grab point; the mouse moves it in a real drag, moveGrab in a program.
+    bool grab(float x, float y);
+    /// Moves the grab point to window position (x, y) at the depth it was grabbed at.
+    void moveGrab(float x, float y);
+    void release();
 
 private:
     struct Impl;

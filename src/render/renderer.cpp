@@ -6,8 +6,9 @@
 //   3. meshes: smooth normals recomputed from the deformed vertices, key + fill + hemisphere
 //      light, lit in linear space and written gamma-encoded;
 //   4. overlay lines, then again faintly where hidden behind meshes;
-// all into a multisampled framebuffer object, resolved into a single-sampled one that is read
-// back (headless) or blitted to a window.
+// all into a framebuffer object, multisampled and resolved into a single-sampled one, or
+// single-sampled and smoothed by FXAA on the way (software renderers, where multisampling is
+// the dearest part of the frame); that one is read back (headless) or blitted to a window.
 #include "ffdaabb/error.h"
 #include "ffdaabb/render.h"
 #include "render/camera_math.h"
@@ -143,6 +144,47 @@ void main() {
 }
 )";
 
+// A full-screen triangle from gl_VertexID: no vertex buffer needed.
+constexpr const char* kFullscreenVertex = R"(#version 330 core
+void main() {
+    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
+    gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+// FXAA in its compact form (Lottes 2009; the widely used "FXAA 2" variant): an edge direction
+// from the luma of the four diagonal neighbours, two or four samples along it, and the wider
+// blend unless it leaves the local luma range. A pixel whose neighbours all equal it is
+// returned unchanged, so flat areas stay exact.
+constexpr const char* kFxaaFragment = R"(#version 330 core
+uniform sampler2D uImage;
+uniform vec2 uTexel;
+out vec4 outColour;
+void main() {
+    vec2 uv = gl_FragCoord.xy * uTexel;
+    vec3 nw = texture(uImage, uv + vec2(-1.0, -1.0) * uTexel).rgb;
+    vec3 ne = texture(uImage, uv + vec2(1.0, -1.0) * uTexel).rgb;
+    vec3 sw = texture(uImage, uv + vec2(-1.0, 1.0) * uTexel).rgb;
+    vec3 se = texture(uImage, uv + vec2(1.0, 1.0) * uTexel).rgb;
+    vec3 m = texture(uImage, uv).rgb;
+    const vec3 toLuma = vec3(0.299, 0.587, 0.114);
+    float lNW = dot(nw, toLuma), lNE = dot(ne, toLuma), lSW = dot(sw, toLuma);
+    float lSE = dot(se, toLuma), lM = dot(m, toLuma);
+    float lMin = min(lM, min(min(lNW, lNE), min(lSW, lSE)));
+    float lMax = max(lM, max(max(lNW, lNE), max(lSW, lSE)));
+    vec2 dir = vec2(-((lNW + lNE) - (lSW + lSE)), (lNW + lSW) - (lNE + lSE));
+    float reduce = max((lNW + lNE + lSW + lSE) * (0.25 / 8.0), 1.0 / 128.0);
+    float scale = 1.0 / (min(abs(dir.x), abs(dir.y)) + reduce);
+    dir = clamp(dir * scale, vec2(-8.0), vec2(8.0)) * uTexel;
+    vec3 a = 0.5 * (texture(uImage, uv + dir * (1.0 / 3.0 - 0.5)).rgb +
+                    texture(uImage, uv + dir * (2.0 / 3.0 - 0.5)).rgb);
+    vec3 b = a * 0.5 + 0.25 * (texture(uImage, uv - dir * 0.5).rgb +
+                               texture(uImage, uv + dir * 0.5).rgb);
+    float lB = dot(b, toLuma);
+    outColour = vec4((lB < lMin || lB > lMax) ? a : b, 1.0);
+}
+)";
+
 GLuint compileShader(GLenum type, const char* source, const char* name) {
     const GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &source, nullptr);
@@ -201,6 +243,7 @@ struct BodyDraw {
 
 struct Target {
     GLuint drawFbo = 0, colour = 0, depth = 0;
+    GLuint colourTexture = 0; // instead of `colour` when single-sampled (FXAA reads it)
     GLuint resolveFbo = 0, resolved = 0;
     int width = 0, height = 0, samples = 0;
 };
@@ -209,6 +252,8 @@ struct Target {
 
 struct Renderer::Impl {
     GLuint meshProgram = 0, shadowProgram = 0, floorProgram = 0, lineProgram = 0;
+    GLuint fxaaProgram = 0, emptyVao = 0;
+    bool software = false;
     GLuint meshVao = 0, meshVbo = 0, meshIbo = 0;
     GLuint lineVao = 0, lineVbo = 0;
     GLuint floorVao = 0, floorVbo = 0;
@@ -231,6 +276,12 @@ struct Renderer::Impl {
         shadowProgram = linkProgram(kShadowVertex, kShadowFragment, "shadow");
         floorProgram = linkProgram(kFloorVertex, kFloorFragment, "floor");
         lineProgram = linkProgram(kLineVertex, kLineFragment, "line");
+        fxaaProgram = linkProgram(kFullscreenVertex, kFxaaFragment, "fxaa");
+        glGenVertexArrays(1, &emptyVao);
+        const char* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        const std::string rendererName = name ? name : "";
+        for (const char* cpu : {"llvmpipe", "softpipe", "Software Rasterizer", "SwiftShader"})
+            software = software || rendererName.find(cpu) != std::string::npos;
 
         glGenVertexArrays(1, &meshVao);
         glGenBuffers(1, &meshVbo);
@@ -277,10 +328,11 @@ struct Renderer::Impl {
         glDeleteProgram(shadowProgram);
         glDeleteProgram(floorProgram);
         glDeleteProgram(lineProgram);
+        glDeleteProgram(fxaaProgram);
         const GLuint buffers[] = {meshVbo, meshIbo, lineVbo, floorVbo};
         glDeleteBuffers(4, buffers);
-        const GLuint arrays[] = {meshVao, lineVao, floorVao};
-        glDeleteVertexArrays(3, arrays);
+        const GLuint arrays[] = {meshVao, lineVao, floorVao, emptyVao};
+        glDeleteVertexArrays(4, arrays);
     }
 
     void releaseTarget() {
@@ -290,6 +342,7 @@ struct Renderer::Impl {
         const GLuint rbs[] = {t.colour, t.depth, t.resolved};
         for (GLuint rb : rbs)
             if (rb) glDeleteRenderbuffers(1, &rb);
+        if (t.colourTexture) glDeleteTextures(1, &t.colourTexture);
         t = Target{};
     }
 
@@ -308,15 +361,30 @@ struct Renderer::Impl {
             else
                 glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
         };
-        glGenRenderbuffers(1, &t.colour);
         glGenRenderbuffers(1, &t.depth);
         glGenRenderbuffers(1, &t.resolved);
-        storage(t.colour, GL_RGBA8, samples);
         storage(t.depth, GL_DEPTH24_STENCIL8, samples);
         storage(t.resolved, GL_RGBA8, 1);
         glGenFramebuffers(1, &t.drawFbo);
         glBindFramebuffer(GL_FRAMEBUFFER, t.drawFbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.colour);
+        if (samples > 1) {
+            glGenRenderbuffers(1, &t.colour);
+            storage(t.colour, GL_RGBA8, samples);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                      t.colour);
+        } else {
+            glGenTextures(1, &t.colourTexture);
+            glBindTexture(GL_TEXTURE_2D, t.colourTexture);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                         nullptr);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            glBindTexture(GL_TEXTURE_2D, 0);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                   t.colourTexture, 0);
+        }
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
                                   t.depth);
         const GLenum drawStatus = glCheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -388,7 +456,9 @@ struct Renderer::Impl {
 
     void draw(const World& world, const Camera& camera, const DrawOptions& options, int width,
               int height) {
-        ensureTarget(width, height, options.samples);
+        Antialiasing aa = options.antialiasing;
+        if (aa == Antialiasing::Auto) aa = software ? Antialiasing::Fxaa : Antialiasing::Msaa;
+        ensureTarget(width, height, aa == Antialiasing::Msaa ? options.samples : 1);
         const float aspect = float(width) / float(height);
         const detail::Mat4 viewProjection =
             detail::projectionMatrix(camera, aspect) * detail::viewMatrix(camera);
@@ -502,10 +572,26 @@ struct Renderer::Impl {
             glLineWidth(1);
         }
 
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFbo);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.resolveFbo);
-        glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
-                          GL_NEAREST);
+        if (aa == Antialiasing::Fxaa && target.colourTexture) {
+            glBindFramebuffer(GL_FRAMEBUFFER, target.resolveFbo);
+            glDisable(GL_DEPTH_TEST);
+            glDisable(GL_STENCIL_TEST);
+            glDisable(GL_BLEND);
+            glUseProgram(fxaaProgram);
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, target.colourTexture);
+            glUniform1i(glGetUniformLocation(fxaaProgram, "uImage"), 0);
+            glUniform2f(glGetUniformLocation(fxaaProgram, "uTexel"), 1.0f / float(width),
+                        1.0f / float(height));
+            glBindVertexArray(emptyVao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindTexture(GL_TEXTURE_2D, 0);
+        } else {
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, target.drawFbo);
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.resolveFbo);
+            glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                              GL_NEAREST);
+        }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glBindVertexArray(0);
         glUseProgram(0);
@@ -558,6 +644,10 @@ void Renderer::present(int framebufferWidth, int framebufferHeight) {
     glBlitFramebuffer(0, 0, t.width, t.height, 0, 0, framebufferWidth, framebufferHeight,
                       GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+bool Renderer::softwareRenderer() const {
+    return impl_->software;
 }
 
 std::string Renderer::glInfo() const {

@@ -30,7 +30,7 @@ void overlaySphere(const World& world, BodyId body, Vec3& outCentre, float& outR
 /// Wire sphere: `meridians` great circles through the poles (+y) and `parallels` circles of
 /// latitude, `segments` segments each.
 void appendSphereWire(Vec3 centre, float radius, Vec3 colour, std::vector<LineVertex>& out,
-                      int meridians = 6, int parallels = 5, int segments = 48);
+                      int meridians = 6, int parallels = 5, int segments = 32);
 /// The 12 edges of a hexahedron given by its corners, corner n = i + 2j + 4k.
 void appendHexahedronWire(const Vec3* corners, Vec3 colour, std::vector<LineVertex>& out);
 /// Unique cell edges of a lattice as particle index pairs (each edge once, sorted).

@@ -4,6 +4,7 @@
 
 #include "ffdaabb/error.h"
 #include "render/camera_math.h"
+#include "world/world_data.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -58,22 +59,6 @@ void releaseGlfw() {
     if (--gGlfwUsers == 0) glfwTerminate();
 }
 
-/// Möller-Trumbore: distance along the ray to the triangle, or a negative value for a miss.
-float rayTriangle(Vec3 origin, Vec3 dir, Vec3 a, Vec3 b, Vec3 c) {
-    const Vec3 e1 = b - a, e2 = c - a;
-    const Vec3 p = cross(dir, e2);
-    const float det = dot(e1, p);
-    if (std::fabs(det) < 1e-12f) return -1;
-    const float inv = 1.0f / det;
-    const Vec3 s = origin - a;
-    const float u = dot(s, p) * inv;
-    if (u < 0 || u > 1) return -1;
-    const Vec3 q = cross(s, e1);
-    const float v = dot(dir, q) * inv;
-    if (v < 0 || u + v > 1) return -1;
-    return dot(e2, q) * inv;
-}
-
 /// A stage of the Profile, for the table and the plot.
 struct Stage {
     const char* name;
@@ -126,6 +111,7 @@ struct Viewer::Impl {
     uint32_t dragParticle = 0;
     float dragDepth = 0;
     Vec3 dragTarget;
+    bool scriptedGrab = false;    // grab() rather than the mouse: the cursor does not move it
     std::vector<int> keys;        // pressed since the last frame
     std::vector<int> buttonsDown; // mouse buttons pressed since the last frame
     std::vector<int> buttonsUp;
@@ -179,54 +165,41 @@ struct Viewer::Impl {
         draw.highlight = BodyId{};
     }
 
-    // Picks the body under window position (x, y): the nearest triangle hit by the ray.
+    // Grabs the body under window position (x, y).
     bool pick(double x, double y) {
-        Vec3 origin, dir;
-        pixelRay(camera(), windowWidth(), windowHeight(), float(x), float(y), origin, dir);
-        float best = std::numeric_limits<float>::max();
-        BodyId hitBody;
-        for (BodyId b : world->bodies()) {
-            const Aabb box = world->bounds(b);
-            // Slab test first: most bodies are not under the cursor.
-            float t0 = 0, t1 = best;
-            for (int a = 0; a < 3 && t0 <= t1; ++a) {
-                const float inv = 1.0f / (std::fabs(dir[a]) > 1e-12f ? dir[a] : 1e-12f);
-                float ta = (box.lo[a] - origin[a]) * inv, tb = (box.hi[a] - origin[a]) * inv;
-                if (ta > tb) std::swap(ta, tb);
-                t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-            }
-            if (t0 > t1) continue;
-            const auto v = world->vertices(b);
-            for (const auto& t : world->triangles(b)) {
-                const float d = rayTriangle(origin, dir, v[t[0]], v[t[1]], v[t[2]]);
-                if (d > 0 && d < best) best = d, hitBody = b;
-            }
-        }
-        if (hitBody.isNull()) return false;
-        const Vec3 hit = origin + dir * best;
-        const auto particles = world->particles(hitBody);
-        float nearest = std::numeric_limits<float>::max();
-        for (uint32_t i = 0; i < particles.size(); ++i) {
-            const float d = lengthSquared(particles[i] - hit);
-            if (d < nearest) nearest = d, dragParticle = i;
-        }
-        dragBody = hitBody;
-        dragDepth = best;
-        dragTarget = hit;
-        draw.highlight = hitBody;
+        const Pick p =
+            pickBody(*world, camera(), windowWidth(), windowHeight(), float(x), float(y));
+        if (p.body.isNull()) return false;
+        dragBody = p.body;
+        dragParticle = p.particle;
+        dragDepth = p.distance;
+        dragTarget = p.point;
+        draw.highlight = p.body;
         return true;
     }
 
-    // A spring-damper force on the grabbed particle towards the point under the cursor at the
-    // grab depth, scaled by the body's mass so that every body follows alike.
+    // A spring-damper force on the grabbed particle towards the grab point. One particle carries
+    // a small share of the body's mass, so an explicit spring on it is stable only while
+    // K dt^2 / m stays small: K is a quarter of that bound (and at most 60/s^2 times the body's
+    // mass, a firm pull). Damping acts on the body's velocity (critical for the whole body
+    // hanging on the spring) and on the particle's own motion relative to it, so that neither
+    // the body swings nor the particle jitters.
     void applyDragForce() {
         if (drag != Drag::Body || !world->isValid(dragBody)) return;
+        const ffd::detail::BodyRecord* record = world->data().find(dragBody);
+        const float particleMass =
+            1.0f / world->data().invMass[record->firstParticle + dragParticle];
+        const float bodyMass = record->mass;
+        const float dt = world->settings().frameStep / float(world->settings().substeps);
+        const float k = std::min(0.25f * particleMass / (dt * dt), kDragStiffness * bodyMass);
         const Vec3 x = world->particles(dragBody)[dragParticle];
         const Vec3 v = world->velocities(dragBody)[dragParticle];
-        Vec3 a = (dragTarget - x) * kDragStiffness - v * (2 * std::sqrt(kDragStiffness));
-        const float len = length(a);
-        if (len > kMaxDragAcceleration) a = a * (kMaxDragAcceleration / len);
-        world->applyParticleForce(dragBody, dragParticle, a * world->info(dragBody).mass);
+        const Vec3 body = world->linearVelocity(dragBody);
+        Vec3 f = (dragTarget - x) * k - body * (2 * std::sqrt(k * bodyMass)) -
+                 (v - body) * (0.3f * particleMass / dt);
+        const float len = length(f), most = kMaxDragAcceleration * bodyMass;
+        if (len > most) f = f * (most / len);
+        world->applyParticleForce(dragBody, dragParticle, f);
     }
 
     void handleInput() {
@@ -282,7 +255,7 @@ struct Viewer::Impl {
                 if (button == GLFW_MOUSE_BUTTON_MIDDLE || shift)
                     drag = Drag::Pan;
                 else if (button == GLFW_MOUSE_BUTTON_LEFT && pick(x, y))
-                    drag = Drag::Body;
+                    drag = Drag::Body, scriptedGrab = false;
                 else
                     drag = Drag::Orbit;
                 lastX = x, lastY = y;
@@ -328,6 +301,7 @@ struct Viewer::Impl {
                 drag = Drag::None;
                 break;
             }
+            if (scriptedGrab) break;
             Vec3 origin, dir;
             pixelRay(cam, windowWidth(), windowHeight(), float(x), float(y), origin, dir);
             dragTarget = origin + dir * dragDepth;
@@ -677,6 +651,33 @@ Camera Viewer::camera() const {
 
 void Viewer::setCamera(const Camera& camera) {
     impl_->setCamera(camera);
+}
+
+void Viewer::windowSize(int& outWidth, int& outHeight) const {
+    outWidth = impl_->windowWidth();
+    outHeight = impl_->windowHeight();
+}
+
+bool Viewer::grab(float x, float y) {
+    Impl& v = *impl_;
+    if (!v.pick(x, y)) return false;
+    v.drag = Impl::Drag::Body;
+    v.scriptedGrab = true;
+    return true;
+}
+
+void Viewer::moveGrab(float x, float y) {
+    Impl& v = *impl_;
+    if (v.drag != Impl::Drag::Body) return;
+    Vec3 origin, dir;
+    pixelRay(v.camera(), v.windowWidth(), v.windowHeight(), x, y, origin, dir);
+    v.dragTarget = origin + dir * v.dragDepth;
+}
+
+void Viewer::release() {
+    Impl& v = *impl_;
+    if (v.drag == Impl::Drag::Body) v.drag = Impl::Drag::None, v.draw.highlight = BodyId{};
+    v.scriptedGrab = false;
 }
 
 ViewerResult runViewer(const WorldFactory& makeWorld, const ViewerSettings& settings) {
