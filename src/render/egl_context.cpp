@@ -1,6 +1,7 @@
 #include "render/egl_context.h"
 
 #include "ffdaabb/render.h"
+#include "render/gl_drivers.h"
 
 #include <epoxy/egl.h>
 
@@ -187,7 +188,10 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
             continue;
         }
         const std::string why = impl_->tryDisplay(c);
-        if (why.empty()) return;
+        if (why.empty()) {
+            pinGlDrivers();
+            return;
+        }
         reasons += "\n  " + why;
     }
     if (candidates.empty()) reasons = "\n  no EGL platform to try (FFD_EGL_PLATFORM=" + only + ")";

@@ -4,6 +4,7 @@
 
 #include "ffdaabb/error.h"
 #include "render/camera_math.h"
+#include "render/gl_drivers.h"
 #include "world/world_data.h"
 
 #include <epoxy/gl.h>
@@ -546,6 +547,7 @@ Viewer::Viewer(WorldFactory makeWorld, ViewerSettings settings) : impl_(std::mak
         if (!v.window)
             throw RenderError("cannot open a window with OpenGL 3.3 core (" + gGlfwLastError + ")");
         glfwMakeContextCurrent(v.window);
+        detail::pinGlDrivers();
         glfwSwapInterval(v.settings.frames > 0 ? 0 : (v.settings.vsync ? 1 : 0));
         glfwSetWindowUserPointer(v.window, &v);
         // Installed before ImGui's back end, which chains to them.
