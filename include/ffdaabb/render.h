@@ -177,9 +177,10 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-/// A Renderer in its own headless EGL context (no display, no window): Mesa's surfaceless
-/// platform first, then EGL devices, then the default display. Each call makes its context
-/// current on the calling thread.
+/// A Renderer in its own headless EGL context (no display, no window): a GPU's EGL device
+/// first, then Mesa's surfaceless platform (llvmpipe without a GPU), then software EGL devices,
+/// then the default display; $FFD_EGL_PLATFORM = device | surfaceless | default keeps one kind.
+/// Each call makes its context current on the calling thread.
 class OffscreenRenderer {
 public:
     OffscreenRenderer();

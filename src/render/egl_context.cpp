@@ -164,21 +164,30 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
     auto wanted = [&](const char* name) { return only.empty() || only == name; };
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
 
-    std::vector<Candidate> candidates;
+    // A GPU's own EGL device first (hardware rendering), then Mesa's surfaceless platform,
+    // then software devices (llvmpipe again, by another road), then the default display.
+    std::vector<Candidate> hardware, software;
+    if (wanted("device") && hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
+        hasExtension(clientExtensions, "EGL_EXT_device_enumeration") &&
+        hasExtension(clientExtensions, "EGL_EXT_device_query")) {
+        EGLDeviceEXT devices[16];
+        EGLint count = 0;
+        if (eglQueryDevicesEXT(16, devices, &count))
+            for (EGLint i = 0; i < count; ++i) {
+                const char* ext = eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS);
+                const bool isSoftware = hasExtension(ext, "EGL_MESA_device_software");
+                (isSoftware ? software : hardware)
+                    .push_back(
+                        {std::string(isSoftware ? "software " : "") + "device " + std::to_string(i),
+                         eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr)});
+            }
+    }
+    std::vector<Candidate> candidates = hardware;
     if (wanted("surfaceless") && hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
         candidates.push_back(
             {"surfaceless", eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
                                                      EGL_DEFAULT_DISPLAY, nullptr)});
-    if (wanted("device") && hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
-        hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {
-        EGLDeviceEXT devices[16];
-        EGLint count = 0;
-        if (eglQueryDevicesEXT(16, devices, &count))
-            for (EGLint i = 0; i < count; ++i)
-                candidates.push_back(
-                    {"device " + std::to_string(i),
-                     eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr)});
-    }
+    candidates.insert(candidates.end(), software.begin(), software.end());
     if (wanted("default")) candidates.push_back({"default", eglGetDisplay(EGL_DEFAULT_DISPLAY)});
 
     std::string reasons;

@@ -10,9 +10,10 @@ namespace ffd::render::detail {
 
 class EglContext {
 public:
-    /// Tries, in order: Mesa's surfaceless platform, each EGL device, the default display.
-    /// $FFD_EGL_PLATFORM = surfaceless | device | default forces one. RenderError listing what
-    /// each attempt said when none gives a GL 3.3 core context.
+    /// Tries, in order: hardware EGL devices (a GPU), Mesa's surfaceless platform, software
+    /// EGL devices, the default display. $FFD_EGL_PLATFORM = device | surfaceless | default
+    /// keeps only that kind. RenderError listing what each attempt said when none gives a GL
+    /// 3.3 core context.
     EglContext();
     ~EglContext();
     EglContext(const EglContext&) = delete;

@@ -41,8 +41,16 @@ std::vector<std::pair<int, int>> changedPixels(const render::Image& a, const ren
 /// One renderer for the suite: making an EGL context costs more than a small image.
 class RenderImage : public ::testing::Test {
 public:
-    static void SetUpTestSuite() { renderer_ = std::make_unique<render::OffscreenRenderer>(); }
+    // An exception here would make gtest skip the suite: it is kept and fails every test.
+    static void SetUpTestSuite() {
+        try {
+            renderer_ = std::make_unique<render::OffscreenRenderer>();
+        } catch (const std::exception& e) {
+            error_ = e.what();
+        }
+    }
     static void TearDownTestSuite() { renderer_.reset(); }
+    void SetUp() override { ASSERT_TRUE(renderer_) << error_; }
 
 protected:
     static render::OffscreenRenderer& renderer() { return *renderer_; }
@@ -50,9 +58,11 @@ protected:
 
 private:
     static std::unique_ptr<render::OffscreenRenderer> renderer_;
+    static std::string error_;
 };
 
 std::unique_ptr<render::OffscreenRenderer> RenderImage::renderer_;
+std::string RenderImage::error_;
 
 TEST_F(RenderImage, ContextIsHeadless) {
     const std::string d = renderer().description();
