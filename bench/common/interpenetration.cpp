@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 
 namespace ffd::bench {
 
@@ -151,6 +152,18 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
         }
         return any;
     };
+    // Smallest distance from a vertex of `a` to the surface of `b`, capped at `range`.
+    const double range = double(settings.gapFraction) * double(settings.referenceSize);
+    auto nearestVertex = [&](size_t a, size_t b) {
+        Aabb reach = box[b];
+        const Vec3 r{float(range), float(range), float(range)};
+        reach.lo -= r, reach.hi += r;
+        double best = range;
+        for (const Vec3& v : bodies[a].vertices)
+            if (reach.contains(v)) best = std::min(best, distanceToSurface(v, bodies[b]));
+        return best;
+    };
+    std::vector<double> gap(n, range);
     // Sort-and-sweep along x keeps the pair search near-linear for piles of hundreds.
     std::vector<size_t> order;
     for (size_t i = 0; i < n; ++i)
@@ -158,13 +171,35 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
     std::sort(order.begin(), order.end(),
               [&](size_t a, size_t b) { return box[a].lo.x < box[b].lo.x; });
     for (size_t k = 0; k < order.size(); ++k)
-        for (size_t m = k + 1; m < order.size() && box[order[m]].lo.x <= box[order[k]].hi.x; ++m) {
+        for (size_t m = k + 1;
+             m < order.size() && double(box[order[m]].lo.x) <= double(box[order[k]].hi.x) + range;
+             ++m) {
             const size_t i = order[k], j = order[m];
-            if (!box[i].overlaps(box[j])) continue;
-            const bool ij = probe(i, j);
-            const bool ji = probe(j, i);
-            if (ij || ji) ++out.bodyPairs;
+            Aabb grown = box[i];
+            const Vec3 r{float(range), float(range), float(range)};
+            grown.lo -= r, grown.hi += r;
+            if (!grown.overlaps(box[j])) continue;
+            bool touching = false;
+            if (box[i].overlaps(box[j])) {
+                const bool ij = probe(i, j);
+                const bool ji = probe(j, i);
+                touching = ij || ji;
+            }
+            if (touching) ++out.bodyPairs;
+            const double g = touching ? 0.0 : std::min(nearestVertex(i, j), nearestVertex(j, i));
+            gap[i] = std::min(gap[i], g);
+            gap[j] = std::min(gap[j], g);
         }
+    std::vector<double> near;
+    for (size_t i : order)
+        if (gap[i] < range) near.push_back(gap[i]);
+    out.nearBodies = int(near.size());
+    if (!near.empty()) {
+        out.meanGap = std::accumulate(near.begin(), near.end(), 0.0) / double(near.size());
+        std::sort(near.begin(), near.end());
+        const size_t h = near.size() / 2;
+        out.medianGap = near.size() % 2 ? near[h] : 0.5 * (near[h - 1] + near[h]);
+    }
     out.meanDepth = out.insideVertices > 0 ? depthSum / out.insideVertices : 0.0;
     out.maxDepthRelative =
         settings.referenceSize > 0 ? out.maxDepth / double(settings.referenceSize) : 0.0;
@@ -187,6 +222,9 @@ void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample) {
     w.lowestY = std::min(w.lowestY, sample.lowestY);
     w.belowFloor = std::max(w.belowFloor, sample.belowFloor);
     w.belowFloorVertices = std::max(w.belowFloorVertices, sample.belowFloorVertices);
+    w.nearBodies = std::max(w.nearBodies, sample.nearBodies);
+    w.medianGap = std::max(w.medianGap, sample.medianGap);
+    w.meanGap = std::max(w.meanGap, sample.meanGap);
     w.finite = w.finite && sample.finite;
 }
 

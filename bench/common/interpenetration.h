@@ -28,6 +28,8 @@ struct InterpenetrationSettings {
     float referenceSize = 1.0f; ///< metres; depths are also reported divided by it (diameter)
     float floorHeight = 0.0f;   ///< the floor plane y = floorHeight, for the below-floor figures
     float deepFraction = 0.01f; ///< a vertex deeper than deepFraction * referenceSize is "deep"
+    /// Bodies closer than gapFraction * referenceSize count as neighbours for the gap figures.
+    float gapFraction = 0.1f;
 };
 
 /// What measureInterpenetration found. Depths in metres.
@@ -42,7 +44,14 @@ struct Interpenetration {
     double lowestY = 0;          ///< lowest vertex y over all bodies
     double belowFloor = 0;       ///< max(0, floorHeight - lowestY)
     int belowFloorVertices = 0;  ///< vertices below the floor plane
-    bool finite = true;          ///< every vertex finite (non-finite bodies are skipped)
+    /// The other side of the trade: how far apart neighbours rest. Each body's gap is the
+    /// smallest vertex-to-surface distance to any other body (0 when they interpenetrate), for
+    /// bodies with a neighbour within gapFraction * referenceSize ("near bodies"). In a resting
+    /// pile that is the contact gap an engine keeps (a collision margin shows up here).
+    int nearBodies = 0;
+    double medianGap = 0; ///< over near bodies, metres
+    double meanGap = 0;
+    bool finite = true; ///< every vertex finite (non-finite bodies are skipped)
 };
 
 /// Generalized winding number of `point` with respect to `mesh`: 1 inside a closed outward
@@ -55,14 +64,16 @@ bool insideMesh(Vec3 point, const MeshView& mesh);
 /// Unsigned distance from `point` to the nearest triangle of `mesh`.
 double distanceToSurface(Vec3 point, const MeshView& mesh);
 
-/// Measures the interpenetration of `bodies` (each a closed mesh) and their position relative
-/// to the floor. Cost: for each pair with overlapping bounds, one winding number per vertex of
-/// either body inside the other's bounds (O(#T) each), one distance per inside vertex.
+/// Measures the interpenetration of `bodies` (each a closed mesh), the gaps between neighbours
+/// and their position relative to the floor. Cost: for each pair with overlapping bounds, one
+/// winding number per vertex of either body inside the other's bounds (O(#T) each); one
+/// distance (O(#T)) per inside vertex, and per vertex within the gap range of a separate
+/// neighbour's bounds.
 Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
                                          const InterpenetrationSettings& settings = {});
 
-/// Folds `sample` into `ioWorst` field by field: maxima of the counts and depths (meanDepth
-/// included), minimum of lowestY, and of finiteness. A default (empty, 0 bodies) `ioWorst`
+/// Folds `sample` into `ioWorst` field by field: maxima of the counts, depths (meanDepth
+/// included) and gaps, minimum of lowestY, and of finiteness. A default (empty, 0 bodies) `ioWorst`
 /// takes the sample as it is.
 void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample);
 

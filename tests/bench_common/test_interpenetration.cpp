@@ -173,3 +173,38 @@ TEST(Interpenetration, KeepWorstTakesFieldwiseExtremes) {
     EXPECT_EQ(worst.lowestY, -0.01);
     EXPECT_FALSE(worst.finite);
 }
+
+// Two radius-1 spheres facing each other vertex to vertex (the icosphere is centrally
+// symmetric), 0.05 apart: each one's gap is 0.05.
+TEST(Interpenetration, GapBetweenSeparateNeighbours) {
+    const Vec3 direction = icosphere(2).positions[5];
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, direction * 2.05f)};
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f; // gap range 0.2
+    const Interpenetration r = measure(meshes, s);
+    EXPECT_EQ(r.bodyPairs, 0);
+    EXPECT_EQ(r.nearBodies, 2);
+    EXPECT_NEAR(r.medianGap, 0.05, 1e-4);
+    EXPECT_NEAR(r.meanGap, 0.05, 1e-4);
+
+    // Beyond the range they are not neighbours; overlapping, their gap is 0.
+    const Interpenetration far = measure({sphere(1.0f, {}), sphere(1.0f, direction * 2.5f)}, s);
+    EXPECT_EQ(far.nearBodies, 0);
+    EXPECT_EQ(far.medianGap, 0.0);
+    const Interpenetration overlap = measure({sphere(1.0f, {}), sphere(1.0f, direction * 1.9f)}, s);
+    EXPECT_EQ(overlap.nearBodies, 2);
+    EXPECT_EQ(overlap.medianGap, 0.0);
+}
+
+// Three in a row: the middle one's nearest neighbour is the closer one.
+TEST(Interpenetration, GapIsToTheNearestNeighbour) {
+    const Vec3 d = icosphere(2).positions[5];
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, d * 2.02f),
+                                           sphere(1.0f, d * 4.1f)};
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f;
+    const Interpenetration r = measure(meshes, s);
+    EXPECT_EQ(r.nearBodies, 3);
+    EXPECT_NEAR(r.medianGap, 0.02, 1e-4); // gaps 0.02, 0.02, 0.08
+    EXPECT_NEAR(r.meanGap, (0.02 + 0.02 + 0.08) / 3, 1e-4);
+}
