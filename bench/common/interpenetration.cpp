@@ -199,6 +199,7 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
         std::sort(near.begin(), near.end());
         const size_t h = near.size() / 2;
         out.medianGap = near.size() % 2 ? near[h] : 0.5 * (near[h - 1] + near[h]);
+        out.minGap = near.front();
     }
     out.meanDepth = out.insideVertices > 0 ? depthSum / out.insideVertices : 0.0;
     out.maxDepthRelative =
@@ -222,9 +223,12 @@ void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample) {
     w.lowestY = std::min(w.lowestY, sample.lowestY);
     w.belowFloor = std::max(w.belowFloor, sample.belowFloor);
     w.belowFloorVertices = std::max(w.belowFloorVertices, sample.belowFloorVertices);
-    w.nearBodies = std::max(w.nearBodies, sample.nearBodies);
     w.medianGap = std::max(w.medianGap, sample.medianGap);
     w.meanGap = std::max(w.meanGap, sample.meanGap);
+    // The closest approach: the smallest minGap of the samples that had near bodies.
+    if (sample.nearBodies > 0 && (w.nearBodies == 0 || sample.minGap < w.minGap))
+        w.minGap = sample.minGap;
+    w.nearBodies = std::max(w.nearBodies, sample.nearBodies);
     w.finite = w.finite && sample.finite;
 }
 

@@ -51,6 +51,7 @@ struct Interpenetration {
     int nearBodies = 0;
     double medianGap = 0; ///< over near bodies, metres
     double meanGap = 0;
+    double minGap = 0;  ///< the closest pair of near bodies (0 when any interpenetrate)
     bool finite = true; ///< every vertex finite (non-finite bodies are skipped)
 };
 
@@ -72,8 +73,9 @@ double distanceToSurface(Vec3 point, const MeshView& mesh);
 Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
                                          const InterpenetrationSettings& settings = {});
 
-/// Folds `sample` into `ioWorst` field by field: maxima of the counts, depths (meanDepth
-/// included) and gaps, minimum of lowestY, and of finiteness. A default (empty, 0 bodies) `ioWorst`
+/// Folds `sample` into `ioWorst` field by field: maxima of the counts, the depths (meanDepth
+/// included), medianGap and meanGap; minima of lowestY and (over samples with near bodies) of
+/// minGap, the closest approach; and of finiteness. A default (empty, 0 bodies) `ioWorst`
 /// takes the sample as it is.
 void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample);
 

@@ -186,6 +186,7 @@ TEST(Interpenetration, GapBetweenSeparateNeighbours) {
     EXPECT_EQ(r.nearBodies, 2);
     EXPECT_NEAR(r.medianGap, 0.05, 1e-4);
     EXPECT_NEAR(r.meanGap, 0.05, 1e-4);
+    EXPECT_NEAR(r.minGap, 0.05, 1e-4);
 
     // Beyond the range they are not neighbours; overlapping, their gap is 0.
     const Interpenetration far = measure({sphere(1.0f, {}), sphere(1.0f, direction * 2.5f)}, s);
@@ -207,4 +208,22 @@ TEST(Interpenetration, GapIsToTheNearestNeighbour) {
     EXPECT_EQ(r.nearBodies, 3);
     EXPECT_NEAR(r.medianGap, 0.02, 1e-4); // gaps 0.02, 0.02, 0.08
     EXPECT_NEAR(r.meanGap, (0.02 + 0.02 + 0.08) / 3, 1e-4);
+    EXPECT_NEAR(r.minGap, 0.02, 1e-4);
+}
+
+TEST(Interpenetration, KeepWorstKeepsTheClosestApproach) {
+    Interpenetration worst;
+    Interpenetration a;
+    a.bodies = 2, a.nearBodies = 2, a.minGap = 0.04, a.medianGap = 0.04;
+    keepWorst(worst, a);
+    Interpenetration apart; // nobody near: its zero gaps say nothing
+    apart.bodies = 2;
+    keepWorst(worst, apart);
+    EXPECT_EQ(worst.minGap, 0.04);
+    Interpenetration closer;
+    closer.bodies = 2, closer.nearBodies = 2, closer.minGap = 0.01, closer.medianGap = 0.01;
+    keepWorst(worst, closer);
+    EXPECT_EQ(worst.minGap, 0.01);
+    EXPECT_EQ(worst.medianGap, 0.04);
+    EXPECT_EQ(worst.nearBodies, 2);
 }
