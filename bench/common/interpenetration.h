@@ -1,0 +1,82 @@
+// An engine-independent measure of how much closed triangle meshes interpenetrate, so that our
+// engine and a peer (Bullet) are judged by one yardstick on their final (and sampled) states.
+//
+// For every unordered pair of bodies whose bounds overlap, each vertex of one body that lies
+// inside the other's closed mesh counts, with depth = its distance to that mesh's surface.
+// Inside means a generalized winding number above 1/2 (Jacobson, Kavan, Sorkine-Hornung 2013,
+// "Robust inside-outside segmentation using generalized winding numbers"): unlike ray parity it
+// stays meaningful when a squashed peer mesh folds over itself or a vertex sits on an edge.
+#pragma once
+
+#include "ffdaabb/math.h"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace ffd::bench {
+
+/// One body's current surface: positions #V (metres) and triangles #T (counter-clockwise seen
+/// from outside, closed). Views only; the caller owns the data.
+struct MeshView {
+    std::span<const Vec3> vertices;
+    std::span<const std::array<uint32_t, 3>> triangles;
+};
+
+struct InterpenetrationSettings {
+    float referenceSize = 1.0f; ///< metres; depths are also reported divided by it (diameter)
+    float floorHeight = 0.0f;   ///< the floor plane y = floorHeight, for the below-floor figures
+    float deepFraction = 0.01f; ///< a vertex deeper than deepFraction * referenceSize is "deep"
+    /// Bodies closer than gapFraction * referenceSize count as neighbours for the gap figures.
+    float gapFraction = 0.1f;
+};
+
+/// What measureInterpenetration found. Depths in metres.
+struct Interpenetration {
+    int bodies = 0;
+    int bodyPairs = 0;      ///< unordered pairs with a vertex of either inside the other
+    int insideVertices = 0; ///< vertices inside another body (a vertex inside two counts twice)
+    int deepVertices = 0;   ///< of those, deeper than deepFraction * referenceSize
+    double maxDepth = 0;    ///< deepest vertex, distance to the other body's surface
+    double meanDepth = 0;   ///< mean depth of the inside vertices (0 when none)
+    double maxDepthRelative = 0; ///< maxDepth / referenceSize
+    double lowestY = 0;          ///< lowest vertex y over all bodies
+    double belowFloor = 0;       ///< max(0, floorHeight - lowestY)
+    int belowFloorVertices = 0;  ///< vertices below the floor plane
+    /// The other side of the trade: how far apart neighbours rest. Each body's gap is the
+    /// smallest vertex-to-surface distance to any other body (0 when they interpenetrate), for
+    /// bodies with a neighbour within gapFraction * referenceSize ("near bodies"). In a resting
+    /// pile that is the contact gap an engine keeps (a collision margin shows up here).
+    int nearBodies = 0;
+    double medianGap = 0; ///< over near bodies, metres
+    double meanGap = 0;
+    double minGap = 0;  ///< the closest pair of near bodies (0 when any interpenetrate)
+    bool finite = true; ///< every vertex finite (non-finite bodies are skipped)
+};
+
+/// Generalized winding number of `point` with respect to `mesh`: 1 inside a closed outward
+/// mesh, 0 outside (sum of signed solid angles / 4 pi, Van Oosterom and Strackee's formula).
+double windingNumber(Vec3 point, const MeshView& mesh);
+
+/// True when windingNumber(point, mesh) > 1/2.
+bool insideMesh(Vec3 point, const MeshView& mesh);
+
+/// Unsigned distance from `point` to the nearest triangle of `mesh`.
+double distanceToSurface(Vec3 point, const MeshView& mesh);
+
+/// Measures the interpenetration of `bodies` (each a closed mesh), the gaps between neighbours
+/// and their position relative to the floor. Cost: for each pair with overlapping bounds, one
+/// winding number per vertex of either body inside the other's bounds (O(#T) each); one
+/// distance (O(#T)) per inside vertex, and per vertex within the gap range of a separate
+/// neighbour's bounds.
+Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
+                                         const InterpenetrationSettings& settings = {});
+
+/// Folds `sample` into `ioWorst` field by field: maxima of the counts, the depths (meanDepth
+/// included), medianGap and meanGap; minima of lowestY and (over samples with near bodies) of
+/// minGap, the closest approach; and of finiteness. A default (empty, 0 bodies) `ioWorst`
+/// takes the sample as it is.
+void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample);
+
+} // namespace ffd::bench

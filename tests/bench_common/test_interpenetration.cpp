@@ -1,0 +1,229 @@
+// The peer benchmarks' interpenetration measure against known answers: overlapping spheres,
+// separate spheres, a sphere inside another, the floor figures and non-finite input.
+#include "interpenetration.h"
+
+#include "ffdaabb/generators.h"
+#include "ffdaabb/mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using namespace ffd;
+using namespace ffd::bench;
+
+namespace {
+
+// An icosphere of 162 vertices / 320 triangles (the scene's sphere), radius `radius`, at `at`.
+TriangleMesh sphere(float radius, Vec3 at) {
+    TriangleMesh m = icosphere(2);
+    transform(m, radius, at);
+    return m;
+}
+
+MeshView view(const TriangleMesh& m) {
+    return {m.positions, m.triangles};
+}
+
+Interpenetration measure(const std::vector<TriangleMesh>& meshes,
+                         const InterpenetrationSettings& settings = {}) {
+    std::vector<MeshView> views;
+    for (const TriangleMesh& m : meshes) views.push_back(view(m));
+    return measureInterpenetration(views, settings);
+}
+
+} // namespace
+
+TEST(Interpenetration, WindingNumberIsOneInsideAndZeroOutside) {
+    const TriangleMesh m = sphere(1.0f, {0.3f, -0.2f, 0.1f});
+    EXPECT_NEAR(windingNumber({0.3f, -0.2f, 0.1f}, view(m)), 1.0, 1e-9);
+    EXPECT_NEAR(windingNumber({0.9f, 0.2f, 0.3f}, view(m)), 1.0, 1e-9);
+    EXPECT_NEAR(windingNumber({5.0f, 0.0f, 0.0f}, view(m)), 0.0, 1e-9);
+    EXPECT_NEAR(windingNumber({0.3f, 1.5f, 0.1f}, view(m)), 0.0, 1e-9);
+    EXPECT_TRUE(insideMesh({0.3f, -0.2f, 0.1f}, view(m)));
+    EXPECT_FALSE(insideMesh({2.0f, 0.0f, 0.0f}, view(m)));
+}
+
+TEST(Interpenetration, DistanceToSurfaceOfAUnitSphere) {
+    const TriangleMesh m = sphere(1.0f, {});
+    // From the centre: the faces' distance, a little under the radius for 320 triangles.
+    const double inradius = distanceToSurface({}, view(m));
+    EXPECT_GT(inradius, 0.97);
+    EXPECT_LE(inradius, 1.0);
+    // On a vertex: zero; outside along a vertex direction: the distance to that vertex.
+    const Vec3 v = m.positions[7];
+    EXPECT_NEAR(distanceToSurface(v, view(m)), 0.0, 1e-6);
+    EXPECT_NEAR(distanceToSurface(v * 3.0f, view(m)), 2.0, 1e-5);
+}
+
+// Radius-1 spheres whose centres are 1.5 apart overlap by 0.5: the vertex of A on the line of
+// centres lies 0.5 from B's centre, so 0.5 inside B's sphere (a little less from B's faces).
+TEST(Interpenetration, UnitRadiusSpheresAtOnePointFive) {
+    const TriangleMesh probe = icosphere(2);
+    const Vec3 direction = probe.positions[11]; // a vertex, so one lies on the line of centres
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, direction * 1.5f)};
+    const Interpenetration r = measure(meshes);
+    EXPECT_EQ(r.bodies, 2);
+    EXPECT_EQ(r.bodyPairs, 1);
+    EXPECT_GT(r.insideVertices, 2);
+    EXPECT_NEAR(r.maxDepth, 0.5, 0.03);
+    EXPECT_GT(r.meanDepth, 0.0);
+    EXPECT_LT(r.meanDepth, r.maxDepth);
+    EXPECT_NEAR(r.maxDepthRelative, r.maxDepth, 1e-12); // reference size 1
+    EXPECT_TRUE(r.finite);
+}
+
+// The scene's spheres have diameter 1 (size 1.0): 0.75 apart they overlap by 0.25.
+TEST(Interpenetration, UnitDiameterSpheresAtThreeQuarters) {
+    TriangleMesh a = icosphere(2), b = icosphere(2);
+    normalizeSize(a, 1.0f);
+    normalizeSize(b, 1.0f);
+    const Vec3 direction = normalize(a.positions[20]);
+    transform(b, 1.0f, direction * 0.75f);
+    InterpenetrationSettings s;
+    s.referenceSize = 1.0f;
+    const Interpenetration r = measure({a, b}, s);
+    EXPECT_EQ(r.bodyPairs, 1);
+    EXPECT_NEAR(r.maxDepth, 0.25, 0.02);
+    EXPECT_NEAR(r.maxDepthRelative, r.maxDepth, 1e-12);
+    // The overlap is symmetric: as many of A's vertices in B as of B's in A.
+    EXPECT_EQ(r.insideVertices % 2, 0);
+}
+
+TEST(Interpenetration, FarApartSpheresDoNotInterpenetrate) {
+    const Interpenetration r = measure({sphere(1.0f, {}), sphere(1.0f, {5, 0.5f, 0})});
+    EXPECT_EQ(r.bodyPairs, 0);
+    EXPECT_EQ(r.insideVertices, 0);
+    EXPECT_EQ(r.deepVertices, 0);
+    EXPECT_EQ(r.maxDepth, 0.0);
+    EXPECT_EQ(r.meanDepth, 0.0);
+}
+
+// Touching at one point (centres 2 apart, radius 1): bounds overlap, nothing is inside.
+TEST(Interpenetration, SpheresBarelyApartHaveNoDeepVertices) {
+    const Interpenetration r = measure({sphere(1.0f, {}), sphere(1.0f, {2.001f, 0, 0})});
+    EXPECT_EQ(r.deepVertices, 0);
+    EXPECT_LT(r.maxDepth, 1e-3);
+}
+
+TEST(Interpenetration, TinySphereInsideABigOne) {
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(0.1f, {0.05f, 0, 0})};
+    const Interpenetration r = measure(meshes);
+    EXPECT_EQ(r.bodyPairs, 1);
+    EXPECT_EQ(r.insideVertices, 162); // all of the tiny one's, none of the big one's
+    EXPECT_EQ(r.deepVertices, 162);
+    EXPECT_GT(r.maxDepth, 0.8);
+    EXPECT_LT(r.maxDepth, 1.0);
+    EXPECT_GT(r.meanDepth, 0.8);
+}
+
+TEST(Interpenetration, FloorFigures) {
+    const TriangleMesh m = sphere(1.0f, {0, 0.6f, 0});
+    const float lowest = bounds(m).lo.y;
+    int below = 0;
+    for (const Vec3& v : m.positions) below += v.y < 0 ? 1 : 0;
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f;
+    const Interpenetration r = measure({m}, s);
+    EXPECT_FLOAT_EQ(float(r.lowestY), lowest);
+    EXPECT_NEAR(r.belowFloor, -double(lowest), 1e-6);
+    EXPECT_EQ(r.belowFloorVertices, below);
+    EXPECT_EQ(r.bodyPairs, 0);
+
+    s.floorHeight = -2.0f;
+    const Interpenetration above = measure({m}, s);
+    EXPECT_EQ(above.belowFloor, 0.0);
+    EXPECT_EQ(above.belowFloorVertices, 0);
+}
+
+TEST(Interpenetration, ReferenceSizeScalesTheRelativeDepth) {
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f; // the diameter of a radius-1 sphere
+    const Interpenetration r = measure({sphere(1.0f, {}), sphere(1.0f, {1.5f, 0, 0})}, s);
+    EXPECT_NEAR(r.maxDepthRelative, r.maxDepth / 2.0, 1e-12);
+}
+
+TEST(Interpenetration, NonFiniteBodiesAreReportedAndSkipped) {
+    std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, {0.5f, 0, 0})};
+    meshes[1].positions[3].x = std::numeric_limits<float>::quiet_NaN();
+    const Interpenetration r = measure(meshes);
+    EXPECT_FALSE(r.finite);
+    EXPECT_EQ(r.bodyPairs, 0);
+    EXPECT_TRUE(std::isfinite(r.lowestY));
+}
+
+TEST(Interpenetration, KeepWorstTakesFieldwiseExtremes) {
+    Interpenetration worst;
+    Interpenetration a;
+    a.bodies = 2, a.bodyPairs = 1, a.insideVertices = 5, a.maxDepth = 0.2, a.meanDepth = 0.1;
+    a.lowestY = -0.01;
+    keepWorst(worst, a);
+    EXPECT_EQ(worst.insideVertices, 5);
+    EXPECT_EQ(worst.lowestY, -0.01);
+    Interpenetration b;
+    b.bodies = 2, b.bodyPairs = 3, b.insideVertices = 2, b.maxDepth = 0.1, b.meanDepth = 0.05;
+    b.lowestY = 0.2, b.finite = false;
+    keepWorst(worst, b);
+    EXPECT_EQ(worst.bodyPairs, 3);
+    EXPECT_EQ(worst.insideVertices, 5);
+    EXPECT_EQ(worst.maxDepth, 0.2);
+    EXPECT_EQ(worst.meanDepth, 0.1);
+    EXPECT_EQ(worst.lowestY, -0.01);
+    EXPECT_FALSE(worst.finite);
+}
+
+// Two radius-1 spheres facing each other vertex to vertex (the icosphere is centrally
+// symmetric), 0.05 apart: each one's gap is 0.05.
+TEST(Interpenetration, GapBetweenSeparateNeighbours) {
+    const Vec3 direction = icosphere(2).positions[5];
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, direction * 2.05f)};
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f; // gap range 0.2
+    const Interpenetration r = measure(meshes, s);
+    EXPECT_EQ(r.bodyPairs, 0);
+    EXPECT_EQ(r.nearBodies, 2);
+    EXPECT_NEAR(r.medianGap, 0.05, 1e-4);
+    EXPECT_NEAR(r.meanGap, 0.05, 1e-4);
+    EXPECT_NEAR(r.minGap, 0.05, 1e-4);
+
+    // Beyond the range they are not neighbours; overlapping, their gap is 0.
+    const Interpenetration far = measure({sphere(1.0f, {}), sphere(1.0f, direction * 2.5f)}, s);
+    EXPECT_EQ(far.nearBodies, 0);
+    EXPECT_EQ(far.medianGap, 0.0);
+    const Interpenetration overlap = measure({sphere(1.0f, {}), sphere(1.0f, direction * 1.9f)}, s);
+    EXPECT_EQ(overlap.nearBodies, 2);
+    EXPECT_EQ(overlap.medianGap, 0.0);
+}
+
+// Three in a row: the middle one's nearest neighbour is the closer one.
+TEST(Interpenetration, GapIsToTheNearestNeighbour) {
+    const Vec3 d = icosphere(2).positions[5];
+    const std::vector<TriangleMesh> meshes{sphere(1.0f, {}), sphere(1.0f, d * 2.02f),
+                                           sphere(1.0f, d * 4.1f)};
+    InterpenetrationSettings s;
+    s.referenceSize = 2.0f;
+    const Interpenetration r = measure(meshes, s);
+    EXPECT_EQ(r.nearBodies, 3);
+    EXPECT_NEAR(r.medianGap, 0.02, 1e-4); // gaps 0.02, 0.02, 0.08
+    EXPECT_NEAR(r.meanGap, (0.02 + 0.02 + 0.08) / 3, 1e-4);
+    EXPECT_NEAR(r.minGap, 0.02, 1e-4);
+}
+
+TEST(Interpenetration, KeepWorstKeepsTheClosestApproach) {
+    Interpenetration worst;
+    Interpenetration a;
+    a.bodies = 2, a.nearBodies = 2, a.minGap = 0.04, a.medianGap = 0.04;
+    keepWorst(worst, a);
+    Interpenetration apart; // nobody near: its zero gaps say nothing
+    apart.bodies = 2;
+    keepWorst(worst, apart);
+    EXPECT_EQ(worst.minGap, 0.04);
+    Interpenetration closer;
+    closer.bodies = 2, closer.nearBodies = 2, closer.minGap = 0.01, closer.medianGap = 0.01;
+    keepWorst(worst, closer);
+    EXPECT_EQ(worst.minGap, 0.01);
+    EXPECT_EQ(worst.medianGap, 0.04);
+    EXPECT_EQ(worst.nearBodies, 2);
+}
