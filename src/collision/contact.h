@@ -95,6 +95,7 @@ struct RigidState {
 struct RigidPoint {
     Vec3 rA, rB, base; ///< arms from the centres, relative velocity before the phase
     float gap = 0, normalImpulse = 0;
+    float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
 };
 
 /// Fills states[b] for every body b touched by `contacts` (others inactive).
@@ -113,7 +114,8 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
 /// Steps 0 and 2: Gauss-Seidel position projection; velocities follow the corrections unless
 /// `v` is empty (pre-stabilisation).
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
-                           std::span<const float> invMass, float dt, int iterations);
+                           std::span<const float> invMass, float dt, int iterations,
+                           std::vector<uint32_t>& activeScratch);
 
 /// Step 3: the speculative normal bound, restitution (approaches faster than bounceThreshold)
 /// and Coulomb friction.
@@ -141,11 +143,16 @@ struct CollisionState {
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
     uint32_t stamp = 0;
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
+    std::vector<float> partnerMargin; ///< per body, its margin against the querying object
+    std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
+    std::vector<Contact> sortScratch;
     std::vector<Contact> floorContacts, objectContacts, all;
     std::vector<uint32_t> nodeBody, boxBody; ///< world-wide node/box -> dense body
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase
     std::vector<uint32_t> bodyFirstParticle, bodyParticleCount;
-    std::vector<RigidPoint> rigidPoints; ///< scratch of the rigid phase
+    std::vector<RigidPoint> rigidPoints;
+    std::vector<uint32_t>
+        activeContacts; ///< scratch of the position projection ///< scratch of the rigid phase
 };
 
 } // namespace ffd::detail

@@ -89,13 +89,21 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
     for (size_t k = 0; k < contacts.size(); ++k) {
         Contact& c = contacts[k];
         RigidPoint& p = points[k];
+        p.base = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        c.approachSpeed = dot(p.base, c.normal);
+        // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is
+        // left to the particle level, where a partial rigid target that many contacts share
+        // could not be met by one rigid motion and would leave a spurious rotation behind; a
+        // hard threshold would make contacts near it flicker.
+        const float ramp =
+            std::clamp((-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
+        p.rigidity = c.rigidity * ramp;
+        p.normalImpulse = 0;
+        if (p.rigidity <= 0) continue;
         const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
         p.rA = pa - states[c.bodyA].centre;
         p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
-        p.base = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         p.gap = dot(pa - pb, c.normal) - c.offset;
-        p.normalImpulse = 0;
-        c.approachSpeed = dot(p.base, c.normal);
     }
     const float invDt = 1.0f / dt;
     for (int it = 0; it < iterations; ++it)
@@ -147,18 +155,25 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
 }
 
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
-                           std::span<const float> invMass, float dt, int iterations) {
+                           std::span<const float> invMass, float dt, int iterations,
+                           std::vector<uint32_t>& active) {
     const float invDt = 1.0f / dt;
     const bool follow = !v.empty();
     for (Contact& c : contacts) c.positionImpulse = 0;
-    for (int it = 0; it < iterations; ++it)
-        for (Contact& c : contacts) {
+    // The first sweep visits every contact; the later ones only those found violated, as most
+    // contacts are speculative (still apart) and stay so.
+    active.clear();
+    for (int it = 0; it < iterations; ++it) {
+        const size_t count = it == 0 ? contacts.size() : active.size();
+        for (size_t n = 0; n < count; ++n) {
+            Contact& c = contacts[it == 0 ? n : active[n]];
             const Vec3 pa = blend(c.a, x);
             const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
             const float C = dot(pa - pb, c.normal) - c.offset;
             if (C >= 0) continue;
             const float W = c.invMassA + c.invMassB;
             if (!(W > 0)) continue;
+            if (it == 0) active.push_back(uint32_t(n));
             const float lambda = -C / W;
             push(c.a, x, invMass, c.normal * lambda);
             if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
@@ -167,6 +182,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
             push(c.a, v, invMass, c.normal * (lambda * invDt));
             if (c.hasB) push(c.b, v, invMass, c.normal * (-lambda * invDt));
         }
+    }
 }
 
 void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,

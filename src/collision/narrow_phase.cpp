@@ -12,6 +12,19 @@ BoxPlanes boxPlanes(const Vec3 nodes[8]) {
     Vec3 centre{};
     for (int n = 0; n < 8; ++n) centre += nodes[n];
     centre *= 0.125f;
+    planes.centre = centre;
+    // Mean edge along each parameter: the trilinear map's derivative at the centre.
+    const Vec3 ea =
+        (nodes[1] - nodes[0] + nodes[3] - nodes[2] + nodes[5] - nodes[4] + nodes[7] - nodes[6]) *
+        0.25f;
+    const Vec3 eb =
+        (nodes[2] - nodes[0] + nodes[3] - nodes[1] + nodes[6] - nodes[4] + nodes[7] - nodes[5]) *
+        0.25f;
+    const Vec3 ec =
+        (nodes[4] - nodes[0] + nodes[5] - nodes[1] + nodes[6] - nodes[2] + nodes[7] - nodes[3]) *
+        0.25f;
+    if (!inverse(Mat3::fromColumns(ea, eb, ec), planes.inverseFrame, 1e-30f))
+        planes.inverseFrame = Mat3{};
     for (int f = 0; f < 6; ++f) {
         const Vec3 q0 = nodes[kFaceNodes[f][0]], q1 = nodes[kFaceNodes[f][1]],
                    q2 = nodes[kFaceNodes[f][2]], q3 = nodes[kFaceNodes[f][3]];
@@ -81,7 +94,7 @@ Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
         if (!inverse(J, Jinv, 1e-30f)) break;
         const Vec3 step = Jinv * f;
         l -= step;
-        if (lengthSquared(step) < 1e-14f) break;
+        if (lengthSquared(step) < 1e-12f) break; // float precision of local coordinates
     }
     return l;
 }

@@ -26,7 +26,16 @@ inline constexpr int kFaceNodes[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4
 struct BoxPlanes {
     Vec3 normal[6];
     float offset[6];
+    /// The box's map from its parameters (a,b,c) in [0,1]^3, linearised at the centre:
+    /// p ~ centre + frame * ((a,b,c) - 0.5); `inverseFrame` maps back (zero when degenerate).
+    Vec3 centre;
+    Mat3 inverseFrame;
 };
+
+/// Box parameters (a,b,c) of point p by the linearised map (exact for affine deformations).
+inline Vec3 boxParameters(const BoxPlanes& box, Vec3 p) {
+    return box.inverseFrame * (p - box.centre) + Vec3{0.5f, 0.5f, 0.5f};
+}
 
 BoxPlanes boxPlanes(const Vec3 nodes[8]);
 

@@ -19,8 +19,14 @@ float skinOf(const WorldData& w, const BodyRecord& b) {
 // Contact margin between a node of A and a box of B: B's skin plus how far the two can close
 // in one substep (speculative contacts: found before they touch, so the velocity solve can
 // stop them at the surface however fast they come).
+// Any point of A moves relative to any point of B by at most |V_A - V_B| + D_A + D_B (mean
+// velocities and largest deviations from them): bodies falling together get a thin margin.
+float relativeSpeedBound(const BodyRecord& a, const BodyRecord& b) {
+    return length(a.meanVelocity - b.meanVelocity) + a.spread + b.spread;
+}
+
 float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
-    return skinOf(w, b) + w.substep * (a.maxSpeed + b.maxSpeed);
+    return skinOf(w, b) + w.substep * relativeSpeedBound(a, b);
 }
 
 float combineFriction(const BodyRecord& a, const BodyRecord& b) {
@@ -28,7 +34,7 @@ float combineFriction(const BodyRecord& a, const BodyRecord& b) {
 }
 
 // The contact for node `node` of body A found inside box `box` of body B.
-Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, uint32_t bodyB,
+Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec3 p, uint32_t bodyB,
                           uint32_t box, const NodeBoxHit& hit, const BoxPlanes& planes) {
     const BodyRecord& A = w.bodies[bodyA];
     const BodyRecord& B = w.bodies[bodyB];
@@ -50,24 +56,33 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, uin
     makeContactPoint(LA.cellParticles[boxA.cell].data(), A.firstParticle,
                      boxA.nodeLocal(int(node % 8)), w.invMass, c.a, c.invMassA);
 
-    // B's point: the node projected onto the face plane, located in B's cell by inverting
-    // its trilinear map, kept within the box.
+    // B's point: the node projected onto the face plane, located in B's cell by inverting its
+    // trilinear map (Newton, started from the box's linearised map, which is close for all but
+    // thin, strongly deformed boxes), kept within the box.
     const CellBox& boxB = LB.boxes[box - B.firstBox];
     const auto& cornersB = LB.cellParticles[boxB.cell];
     Vec3 corners[8];
     for (int k = 0; k < 8; ++k) corners[k] = w.x[B.firstParticle + cornersB[k]];
-    const Vec3 p = w.nodes[node];
     const Vec3 q = p - c.normal * hit.distance;
-    Vec3 local = invertTrilinear(corners, q, (boxB.lo + boxB.hi) * 0.5f);
+    Vec3 abc = max(Vec3{0, 0, 0}, min(boxParameters(planes, q), Vec3{1, 1, 1}));
+    if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
+    Vec3 local = invertTrilinear(corners, q, boxB.lo + mul(boxB.hi - boxB.lo, abc), 3);
     if (!isFinite(local)) local = (boxB.lo + boxB.hi) * 0.5f;
     local = max(boxB.lo, min(local, boxB.hi));
     makeContactPoint(cornersB.data(), B.firstParticle, local, w.invMass, c.b, c.invMassB);
     return c;
 }
 
-void sortContacts(std::vector<Contact>& contacts) {
-    std::sort(contacts.begin(), contacts.end(),
-              [](const Contact& a, const Contact& b) { return contactKey(a) < contactKey(b); });
+// Canonical order whatever found them: sorts small (key, index) pairs, then moves each contact
+// once, rather than shuffling the large contacts themselves.
+void sortContacts(std::vector<Contact>& contacts, std::vector<std::pair<uint64_t, uint32_t>>& keys,
+                  std::vector<Contact>& scratch) {
+    keys.resize(contacts.size());
+    for (uint32_t i = 0; i < contacts.size(); ++i) keys[i] = {contactKey(contacts[i]), i};
+    std::sort(keys.begin(), keys.end());
+    scratch.resize(contacts.size());
+    for (size_t i = 0; i < keys.size(); ++i) scratch[i] = contacts[keys[i].second];
+    contacts.swap(scratch);
 }
 
 bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
@@ -113,9 +128,20 @@ void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
         std::span<Vec3> nodes(w.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
         updateBoxNodes(L, x, nodes);
         float speed2 = 0;
-        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+        Vec3 momentum{};
+        float mass = 0;
+        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) {
             speed2 = std::fmax(speed2, lengthSquared(w.v[i]));
+            const float m = 1.0f / w.invMass[i];
+            momentum += w.v[i] * m;
+            mass += m;
+        }
         r.maxSpeed = std::sqrt(speed2);
+        r.meanVelocity = momentum / mass;
+        float spread2 = 0;
+        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+            spread2 = std::fmax(spread2, lengthSquared(w.v[i] - r.meanVelocity));
+        r.spread = std::sqrt(spread2);
         Aabb body;
         for (uint32_t k = 0; k < r.boxCount; ++k) {
             Aabb box;
@@ -247,11 +273,10 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
     s.planeStamp.resize(s.planes.size(), 0);
     if (++s.stamp == 0) std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0), s.stamp = 1;
-    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node) {
+    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
+                       float margin) {
         ++outPotential;
         const BodyRecord& B = w.bodies[bodyB];
-        const float margin = marginOf(w, w.bodies[bodyA], B);
-        const Vec3 p = w.nodes[node];
         if (!w.boxBounds[box].contains(p, margin)) return;
         if (s.planeStamp[box] != s.stamp) {
             s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
@@ -261,7 +286,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             testNodeInBox(s.planes[box], w.boxBounds[box],
                           B.model->lattice.boxes[box - B.firstBox].outsideFaces, p, margin);
         if (hit.inside)
-            out.push_back(makeObjectContact(w, bodyA, node, bodyB, box, hit, s.planes[box]));
+            out.push_back(makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]));
     };
 
     if (mode == CollisionMode::Brute) {
@@ -271,12 +296,13 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                 for (uint32_t a = 0; a < n; ++a) {
                     if (a == b) continue;
                     const BodyRecord& A = w.bodies[a];
+                    const float margin = marginOf(w, A, B);
                     for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
                          ++node)
-                        testBox(b, box, a, node);
+                        testBox(b, box, a, node, w.nodes[node], margin);
                 }
         }
-        sortContacts(out);
+        sortContacts(out, s.sortKeys, s.sortScratch);
         return;
     }
 
@@ -297,29 +323,32 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         if (!isCandidate(b)) continue;
         const BodyRecord& r = w.bodies[b];
         for (uint32_t node = r.firstBox * 8; node < (r.firstBox + r.boxCount) * 8; ++node)
-            s.hash.add(node, b, w.nodes[node]);
+            s.hash.add(node, b, w.nodes[node]); // keeps the position: no random reads later
     }
     s.hash.build();
     // Each box of a candidate object visits the hash cells its node bounds (grown by the
     // largest margin any of its partners can need) overlap and tests the nodes of the other
     // objects it forms a candidate pair with.
     s.partnerMark.assign(n, 0);
+    s.partnerMargin.resize(n);
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
-        float fastestPartner = 0;
+        // The largest margin any partner can need: the query must reach that far.
+        // Each partner's margin once per object, and the largest: the query must reach that far.
+        float reach = 0;
+        auto addPartner = [&](uint32_t a) {
+            s.partnerMark[a] = 1;
+            s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+            reach = std::fmax(reach, s.partnerMargin[a]);
+        };
         if (enhanced) {
-            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
-                s.partnerMark[s.partners[k]] = 1;
-                fastestPartner = std::fmax(fastestPartner, w.bodies[s.partners[k]].maxSpeed);
-            }
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
+                addPartner(s.partners[k]);
         } else {
-            std::fill(s.partnerMark.begin(), s.partnerMark.end(), 1);
-            s.partnerMark[b] = 0;
             for (uint32_t a = 0; a < n; ++a)
-                if (a != b) fastestPartner = std::fmax(fastestPartner, w.bodies[a].maxSpeed);
+                if (a != b) addPartner(a);
         }
-        const float reach = skinOf(w, B) + w.substep * (B.maxSpeed + fastestPartner);
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             const Aabb& bb = w.boxBounds[box];
             const int32_t i0 = s.hash.cell(bb.lo.x - reach), i1 = s.hash.cell(bb.hi.x + reach);
@@ -331,18 +360,18 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                         s.hash.cellSize());
                 abort();
             }
-            for (int32_t k = k0; k <= k1; ++k)
-                for (int32_t j = j0; j <= j1; ++j)
-                    for (int32_t i = i0; i <= i1; ++i)
-                        s.hash.forEachInCell(i, j, k, [&](const SpatialHash::Entry& e) {
-                            if (s.partnerMark[e.owner]) testBox(b, box, e.owner, e.item);
-                        });
+            s.hash.forEachInRange(i0, i1, j0, j1, k0, k1, b, [&](const SpatialHash::Entry& e) {
+                if (s.partnerMark[e.owner])
+                    testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
+            });
         }
         if (enhanced)
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
                 s.partnerMark[s.partners[k]] = 0;
+        else
+            std::fill(s.partnerMark.begin(), s.partnerMark.end(), 0);
     }
-    sortContacts(out);
+    sortContacts(out, s.sortKeys, s.sortScratch);
 }
 
 void findAllContacts(WorldData& w) {
@@ -358,7 +387,7 @@ void respondBeforeMove(WorldData& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return;
     const int iterations = w.settings.solverIterations;
-    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations);
+    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, s.activeContacts);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     prepareRigidStates(s.all, w.x, w.invMass, s.bodyFirstParticle, s.bodyParticleCount, s.rigid);
     solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, dt, impact, iterations);
@@ -369,7 +398,7 @@ float respondAfterMove(WorldData& w, float dt) {
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations);
+    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, s.activeContacts);
     solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations);
     return residualPenetration(s.all, w.x);
 }

@@ -26,6 +26,7 @@ void SpatialHash::begin(size_t expectedEntries, float cellSize) {
     if (buckets_.size() < wanted) {
         // Grow (never shrink, so the steady state reuses the table); fresh buckets carry stamp 0.
         buckets_.assign(nextPrime(uint32_t(wanted)), Bucket{});
+        modMagic_ = ~uint64_t(0) / buckets_.size() + 1;
         stamp_ = 0;
     }
     if (++stamp_ == 0) { // wrapped after 2^32 steps: clear once
@@ -45,7 +46,10 @@ void SpatialHash::build() {
         if (b.stamp != stamp_) {
             b.stamp = stamp_;
             b.count = 0;
+            b.soleOwner = e.owner;
             touched_.push_back(h);
+        } else if (b.soleOwner != e.owner) {
+            b.soleOwner = kMixed;
         }
         slotOf_[n] = b.count++;
     }

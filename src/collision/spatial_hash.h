@@ -23,12 +23,15 @@ namespace ffd::detail {
 /// Smallest prime >= n (n >= 2).
 uint32_t nextPrime(uint32_t n);
 
+__extension__ using Uint128 = unsigned __int128;
+
 class SpatialHash {
 public:
     struct Entry {
         int32_t i, j, k;
         uint32_t item;  ///< caller's id (a node index)
         uint32_t owner; ///< caller's group (a body index)
+        Vec3 position;  ///< where it was added (read with the entry, not from elsewhere)
     };
 
     /// Starts a new step: a table of at least 2 * expectedEntries buckets (prime), cell size l.
@@ -36,20 +39,56 @@ public:
 
     /// Stages an item at point p; the table is built by build().
     void add(uint32_t item, uint32_t owner, Vec3 p) {
-        staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner});
+        staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner, p});
     }
 
     /// Sorts the staged items into their buckets (two passes, timestamps, no clearing).
     void build();
 
-    /// Calls f(entry) for every item in grid cell (i,j,k).
+    /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. A
+    /// bucket holding only that owner's items is passed over without reading them (most cells
+    /// a box visits hold only its own object's nodes).
     template <class F>
-    void forEachInCell(int32_t i, int32_t j, int32_t k, F&& f) const {
+    void forEachInCell(int32_t i, int32_t j, int32_t k, uint32_t skipOwner, F&& f) const {
         const Bucket& b = buckets_[bucket(i, j, k)];
-        if (b.stamp != stamp_) return;
+        if (b.stamp != stamp_ || b.soleOwner == skipOwner) return;
         const Entry* e = entries_.data() + b.start;
         for (uint32_t n = 0; n < b.count; ++n)
-            if (e[n].i == i && e[n].j == j && e[n].k == k) f(e[n]);
+            if (e[n].owner != skipOwner && e[n].i == i && e[n].j == j && e[n].k == k) f(e[n]);
+    }
+
+    static constexpr uint32_t kNoOwner = UINT32_MAX;
+
+    /// forEachInCell over every cell of a range. The buckets are looked up (and prefetched)
+    /// before any is read, so their cache misses overlap instead of queueing.
+    template <class F>
+    void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
+                        uint32_t skipOwner, F&& f) const {
+        constexpr int kBatch = 32;
+        uint32_t hs[kBatch];
+        int32_t cs[kBatch][3];
+        int n = 0;
+        auto flush = [&] {
+            for (int m = 0; m < n; ++m) {
+                const Bucket& b = buckets_[hs[m]];
+                if (b.stamp != stamp_ || b.soleOwner == skipOwner) continue;
+                const Entry* e = entries_.data() + b.start;
+                for (uint32_t q = 0; q < b.count; ++q)
+                    if (e[q].owner != skipOwner && e[q].i == cs[m][0] && e[q].j == cs[m][1] &&
+                        e[q].k == cs[m][2])
+                        f(e[q]);
+            }
+            n = 0;
+        };
+        for (int32_t k = k0; k <= k1; ++k)
+            for (int32_t j = j0; j <= j1; ++j)
+                for (int32_t i = i0; i <= i1; ++i) {
+                    hs[n] = bucket(i, j, k);
+                    __builtin_prefetch(&buckets_[hs[n]]);
+                    cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
+                    if (++n == kBatch) flush();
+                }
+        flush();
     }
 
     int32_t cell(float v) const { return int32_t(std::floor(v * inverseCellSize_)); }
@@ -62,7 +101,9 @@ private:
         uint32_t stamp = 0;
         uint32_t start = 0;
         uint32_t count = 0;
+        uint32_t soleOwner = kMixed; ///< the one owner of all its items, or kMixed
     };
+    static constexpr uint32_t kMixed = UINT32_MAX - 1;
 
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
         const uint32_t h =
@@ -74,6 +115,7 @@ private:
     std::vector<Entry> staged_, entries_;
     std::vector<uint32_t> touched_, slotOf_;
     uint32_t stamp_ = 0;
+    uint64_t modMagic_ = 0; ///< ceil(2^64 / T)
     float cellSize_ = 1, inverseCellSize_ = 1;
 };
 

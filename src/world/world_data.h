@@ -41,7 +41,9 @@ struct BodyRecord {
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
     Aabb bounds;        ///< of the box nodes, from the last node update
-    float maxSpeed = 0; ///< fastest particle at the last node update, m/s
+    float maxSpeed = 0;   ///< fastest particle at the last node update, m/s
+    Vec3 meanVelocity;    ///< mass-weighted mean particle velocity at the last node update
+    float spread = 0;     ///< largest |v_i - meanVelocity| over the particles, m/s
     Vec3 sphereCentre;  ///< bounding sphere (enhanced mode)
     float sphereRadius = 0;
 };

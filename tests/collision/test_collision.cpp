@@ -141,10 +141,11 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
         for (int j = -5; j < 5; ++j)
             for (int i = -5; i < 5; ++i) {
                 std::set<uint32_t> found;
-                hash.forEachInCell(i, j, k, [&](const detail::SpatialHash::Entry& e) {
-                    EXPECT_TRUE(found.insert(e.item).second);
-                    EXPECT_EQ(e.owner, e.item % 7);
-                });
+                hash.forEachInCell(i, j, k, detail::SpatialHash::kNoOwner,
+                                   [&](const detail::SpatialHash::Entry& e) {
+                                       EXPECT_TRUE(found.insert(e.item).second);
+                                       EXPECT_EQ(e.owner, e.item % 7);
+                                   });
                 for (uint32_t p = 0; p < points.size(); ++p) {
                     const bool inCell = hash.cell(points[p].x) == i &&
                                         hash.cell(points[p].y) == j && hash.cell(points[p].z) == k;
@@ -156,8 +157,23 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
     hash.build();
     int seen = 0;
     hash.forEachInCell(hash.cell(points[0].x), hash.cell(points[0].y), hash.cell(points[0].z),
+                       detail::SpatialHash::kNoOwner,
                        [&](const detail::SpatialHash::Entry&) { ++seen; });
     EXPECT_EQ(seen, 0);
+    // Skipping an owner hides exactly its items.
+    hash.begin(4, 1.0f);
+    hash.add(0, 1, {0.5f, 0.5f, 0.5f});
+    hash.add(1, 2, {0.6f, 0.5f, 0.5f});
+    hash.add(2, 1, {3.5f, 0.5f, 0.5f});
+    hash.build();
+    std::vector<uint32_t> got;
+    hash.forEachInCell(0, 0, 0, 1,
+                       [&](const detail::SpatialHash::Entry& e) { got.push_back(e.item); });
+    EXPECT_EQ(got, std::vector<uint32_t>{1});
+    got.clear();
+    hash.forEachInCell(3, 0, 0, 1,
+                       [&](const detail::SpatialHash::Entry& e) { got.push_back(e.item); });
+    EXPECT_TRUE(got.empty());
     EXPECT_EQ(detail::nextPrime(1000), 1009u);
     EXPECT_EQ(detail::nextPrime(2), 2u);
 }
