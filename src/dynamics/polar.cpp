@@ -4,6 +4,7 @@
 #include "dynamics/polar.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace ffd::detail {
 
@@ -114,6 +115,142 @@ void extractRotation(const Mat3& A, Quat& q, int maxIterations) {
     if (angle > 1e-2f) {
         q = closestRotation(A);
         refineRotation(A, q, 2);
+    }
+}
+
+} // namespace ffd::detail
+
+// ---- four rotations at a time ----------------------------------------------------------------
+
+namespace ffd::detail {
+
+namespace {
+
+typedef float F4 __attribute__((vector_size(16)));
+typedef int32_t I4 __attribute__((vector_size(16)));
+
+inline F4 splat(float v) {
+    return F4{v, v, v, v};
+}
+inline F4 select(I4 mask, F4 a, F4 b) {
+    return reinterpret_cast<F4>((reinterpret_cast<I4>(a) & mask) |
+                                (reinterpret_cast<I4>(b) & ~mask));
+}
+inline F4 sqrt4(F4 v) {
+    F4 r;
+    for (int k = 0; k < 4; ++k) r[k] = std::sqrt(v[k]);
+    return r;
+}
+inline F4 abs4(F4 v) {
+    return reinterpret_cast<F4>(reinterpret_cast<I4>(v) &
+                                I4{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
+}
+inline bool any(I4 m) {
+    return (m[0] | m[1] | m[2] | m[3]) != 0;
+}
+
+struct Q4 {
+    F4 w, x, y, z;
+};
+
+// One Newton step (Mueller's step where the Hessian is not positive definite) on four lanes.
+// Lanes off in `active` keep their rotation. Returns the step angles; `large` flags lanes whose
+// step was too large for the cheap small-angle rotation (left unchanged: the caller redoes them).
+F4 newtonStep(const F4 A[9], Q4& q, I4 active, I4& large) {
+    const F4 xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+    const F4 xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+    const F4 wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    const F4 one = splat(1), two = splat(2);
+    const F4 R[9] = {one - two * (yy + zz), two * (xy - wz),       two * (xz + wy),
+                     two * (xy + wz),       one - two * (xx + zz), two * (yz - wx),
+                     two * (xz - wy),       two * (yz + wx),       one - two * (xx + yy)};
+    F4 M[9];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            M[3 * i + j] = R[i] * A[j] + R[3 + i] * A[3 + j] + R[6 + i] * A[6 + j];
+    const F4 g0 = M[7] - M[5], g1 = M[2] - M[6], g2 = M[3] - M[1];
+    const F4 tr = M[0] + M[4] + M[8];
+    const F4 half = splat(0.5f);
+    const F4 s01 = half * (M[1] + M[3]), s02 = half * (M[2] + M[6]), s12 = half * (M[5] + M[7]);
+    const F4 h00 = tr - M[0], h11 = tr - M[4], h22 = tr - M[8];
+    const F4 h01 = -s01, h02 = -s02, h12 = -s12;
+    const F4 a00 = h11 * h22 - h12 * h12, a01 = h02 * h12 - h01 * h22, a02 = h01 * h12 - h02 * h11;
+    const F4 a11 = h00 * h22 - h02 * h02, a12 = h01 * h02 - h00 * h12, a22 = h00 * h11 - h01 * h01;
+    const F4 det = h00 * a00 + h01 * a01 + h02 * a02;
+    const F4 scale = abs4(tr) + splat(1e-30f);
+    const F4 tiny = splat(1e-6f);
+    const I4 pd =
+        (h00 > tiny * scale) & (a22 > tiny * scale * scale) & (det > tiny * scale * scale * scale);
+    const F4 invDet = one / select(pd, det, one);
+    const F4 invTr = one / (abs4(tr) + splat(1e-9f));
+    const F4 d0 = select(pd, (a00 * g0 + a01 * g1 + a02 * g2) * invDet, g0 * invTr);
+    const F4 d1 = select(pd, (a01 * g0 + a11 * g1 + a12 * g2) * invDet, g1 * invTr);
+    const F4 d2 = select(pd, (a02 * g0 + a12 * g1 + a22 * g2) * invDet, g2 * invTr);
+    // World-frame rotation vector omega = R d.
+    const F4 o0 = R[0] * d0 + R[1] * d1 + R[2] * d2;
+    const F4 o1 = R[3] * d0 + R[4] * d1 + R[5] * d2;
+    const F4 o2 = R[6] * d0 + R[7] * d1 + R[8] * d2;
+    const F4 angle = sqrt4(o0 * o0 + o1 * o1 + o2 * o2);
+    const F4 h = half * angle;
+    large = active & (h >= splat(0.03f));
+    const I4 move = active & ~large & (angle > splat(1e-6f)); // also false for NaN
+    // Small-angle rotation (Taylor series, exact to float precision below 0.03 rad).
+    const F4 h2 = h * h;
+    const F4 s = half * (one - h2 * splat(1.0f / 6.0f));
+    const F4 c = one - h2 * (half - h2 * splat(1.0f / 24.0f));
+    const F4 tx = o0 * s, ty = o1 * s, tz = o2 * s;
+    Q4 r;
+    r.w = c * q.w - tx * q.x - ty * q.y - tz * q.z;
+    r.x = c * q.x + tx * q.w + ty * q.z - tz * q.y;
+    r.y = c * q.y - tx * q.z + ty * q.w + tz * q.x;
+    r.z = c * q.z + tx * q.y - ty * q.x + tz * q.w;
+    const F4 inv = one / sqrt4(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+    q.w = select(move, r.w * inv, q.w);
+    q.x = select(move, r.x * inv, q.x);
+    q.y = select(move, r.y * inv, q.y);
+    q.z = select(move, r.z * inv, q.z);
+    return select(active, angle, splat(0));
+}
+
+} // namespace
+
+void extractRotations(const float* const a[9], Quat* rotations, size_t count, int maxIterations) {
+    size_t r = 0;
+    for (; r + 4 <= count; r += 4) {
+        F4 A[9];
+        for (int e = 0; e < 9; ++e) std::memcpy(&A[e], a[e] + r, sizeof(F4));
+        Q4 q;
+        for (int k = 0; k < 4; ++k) {
+            q.w[k] = rotations[r + size_t(k)].w, q.x[k] = rotations[r + size_t(k)].x;
+            q.y[k] = rotations[r + size_t(k)].y, q.z[k] = rotations[r + size_t(k)].z;
+        }
+        const I4 all{-1, -1, -1, -1};
+        I4 large;
+        F4 angle = newtonStep(A, q, all, large);
+        I4 fallback = large;
+        // A second step where the first moved noticeably (as extractRotation does).
+        const I4 again = ~large & (angle > splat(2e-3f));
+        if (maxIterations > 1 && any(again)) {
+            I4 large2;
+            const F4 angle2 = newtonStep(A, q, again, large2);
+            fallback = fallback | large2 | (again & (angle2 > splat(1e-2f)));
+        }
+        for (int k = 0; k < 4; ++k) {
+            Quat& out = rotations[r + size_t(k)];
+            if (fallback[k]) {
+                // Redo this lane on the scalar path from its warm start.
+                Mat3 m;
+                for (int e = 0; e < 9; ++e) m.m[e / 3][e % 3] = a[e][r + size_t(k)];
+                extractRotation(m, out, maxIterations);
+            } else {
+                out = {q.w[k], q.x[k], q.y[k], q.z[k]};
+            }
+        }
+    }
+    for (; r < count; ++r) {
+        Mat3 m;
+        for (int e = 0; e < 9; ++e) m.m[e / 3][e % 3] = a[e][r];
+        extractRotation(m, rotations[r], maxIterations);
     }
 }
 

@@ -32,3 +32,13 @@ Quat closestRotation(const Mat3& A);
 void extractRotation(const Mat3& A, Quat& ioRotation, int maxIterations);
 
 } // namespace ffd::detail
+
+namespace ffd::detail {
+
+/// extractRotation for many matrices at once, four at a time with vector arithmetic:
+/// a[e][r] is element e (row-major) of matrix r; rotations[r] is improved in place (count
+/// entries). Lanes that need more than the warm-started Newton steps fall back on the scalar
+/// path, so the result matches extractRotation's to rounding.
+void extractRotations(const float* const a[9], Quat* rotations, size_t count, int maxIterations);
+
+} // namespace ffd::detail

@@ -167,10 +167,37 @@ void computeGoals(const ShapeMatchingModel& model, std::span<const Vec3> x, std:
         cubeSum<C>(model, s.a, s.b);
         // Regions: their sums give their frames, scattered for the second summation.
         s.region.resize(P * kSecondChannels);
-        for (uint32_t r = 0; r < P; ++r) {
-            const RegionFrame f = regionFrame(model, r, &s.b[size_t(model.particlePoint[r]) * C],
-                                              rotations[r], iterations, wantVelocity);
-            writeSecond(&s.region[r * kSecondChannels], 1, f);
+        if constexpr (C == 12) {
+            // Without region damping: all the rotations at once (four at a time), then t.
+            s.soa.resize(P * 12);
+            float* A[9];
+            for (int e = 0; e < 9; ++e) A[e] = s.soa.data() + size_t(e) * P;
+            float* cx = s.soa.data() + 9 * P;
+            for (uint32_t r = 0; r < P; ++r) {
+                const float* S = &s.b[size_t(model.particlePoint[r]) * C];
+                const float M = model.regionMass[r], invM = 1.0f / M;
+                const Vec3 c{S[0] * invM, S[1] * invM, S[2] * invM};
+                const Vec3 c0 = model.regionRestCentre[r];
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                        A[3 * i + j][r] = S[3 + 3 * i + j] - M * c[i] * c0[j];
+                cx[3 * r] = c.x, cx[3 * r + 1] = c.y, cx[3 * r + 2] = c.z;
+            }
+            extractRotations(A, rotations.data(), P, iterations);
+            for (uint32_t r = 0; r < P; ++r) {
+                RegionFrame f;
+                f.R = toMat3(rotations[r]);
+                f.t =
+                    Vec3{cx[3 * r], cx[3 * r + 1], cx[3 * r + 2]} - f.R * model.regionRestCentre[r];
+                writeSecond(&s.region[r * kSecondChannels], 1, f);
+            }
+        } else {
+            for (uint32_t r = 0; r < P; ++r) {
+                const RegionFrame f =
+                    regionFrame(model, r, &s.b[size_t(model.particlePoint[r]) * C], rotations[r],
+                                iterations, wantVelocity);
+                writeSecond(&s.region[r * kSecondChannels], 1, f);
+            }
         }
     };
     auto second = [&]<int C>() {

@@ -57,6 +57,7 @@ struct ShapeMatchingStep {
 struct ShapeMatchingScratch {
     std::vector<float> a, b;   ///< channel-major padded grids
     std::vector<float> region; ///< per-region values between the passes
+    std::vector<float> soa;    ///< per-region matrices, one array per element
     std::vector<Vec3> goal, rigidVelocity;
 };
 
