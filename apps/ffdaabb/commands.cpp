@@ -9,6 +9,8 @@ Action gSelected;
 void registerCommands(CLI::App& app) {
     addMeshInfoCommand(app, gSelected);
     addRunCommand(app, gSelected);
+    addBenchCommand(app, gSelected);
+    addRenderCommands(app, gSelected);
 }
 
 int runSelected(CLI::App&) {

@@ -90,6 +90,9 @@ struct SceneBuild {
     double buildMilliseconds = 0;
 };
 
+/// The mesh of the index-th object of entry `object` (letters cycle), normalised to its size.
+TriangleMesh sceneObjectMesh(const SceneObject& object, int index);
+
 /// Generates (or loads) the meshes, builds the lattices (shared between identical objects)
 /// and places every object by the layout.
 SceneBuild buildScene(const Scene& scene);

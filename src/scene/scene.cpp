@@ -398,34 +398,35 @@ void setObjectCount(Scene& scene, int count) {
     }
 }
 
+TriangleMesh sceneObjectMesh(const SceneObject& o, int index) {
+    TriangleMesh m;
+    if (!o.meshFile.empty()) {
+        m = loadMesh(o.meshFile);
+        cleanup(m);
+        m.name = o.meshFile.string();
+    } else if (o.mesh == "letters") {
+        m = generate(std::string("letter:") + o.letters[size_t(index) % o.letters.size()]);
+    } else {
+        m = generate(o.mesh);
+    }
+    normalizeSize(m, o.size);
+    return m;
+}
+
 SceneBuild buildScene(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
     SceneBuild out{World(scene.world), {}, 0, 0, 0, 0, 0, 0};
     // Each distinct mesh is made once; the World shares lattices between identical ones.
     std::map<std::string, TriangleMesh> meshes;
     auto meshFor = [&](const SceneObject& o, int index) -> const TriangleMesh& {
-        std::string key;
-        if (!o.meshFile.empty())
-            key = "file:" + o.meshFile.string();
-        else if (o.mesh == "letters")
-            key = std::string("letter:") + o.letters[size_t(index) % o.letters.size()];
-        else
-            key = o.mesh;
+        std::string key = !o.meshFile.empty() ? "file:" + o.meshFile.string()
+                          : o.mesh == "letters"
+                              ? std::string(1, o.letters[size_t(index) % o.letters.size()])
+                              : o.mesh;
         key += '@';
         key += std::to_string(o.size);
         auto it = meshes.find(key);
-        if (it == meshes.end()) {
-            TriangleMesh m;
-            if (!o.meshFile.empty()) {
-                m = loadMesh(o.meshFile);
-                cleanup(m);
-                m.name = o.meshFile.string();
-            } else {
-                m = generate(key.substr(0, key.find('@')));
-            }
-            normalizeSize(m, o.size);
-            it = meshes.emplace(key, std::move(m)).first;
-        }
+        if (it == meshes.end()) it = meshes.emplace(key, sceneObjectMesh(o, index)).first;
         return it->second;
     };
 

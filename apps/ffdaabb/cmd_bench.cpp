@@ -1,0 +1,400 @@
+// ffdaabb bench: the paper's experiment. Each scene runs in `previous` and `enhanced` mode side
+// by side (the two worlds are stepped in lockstep, alternating which goes first, so both see the
+// same machine conditions frame by frame), and the results are written as the paper's Table 1,
+// Table 2 and Fig. 4, beside the paper's own figures.
+#include "commands.h"
+#include "runner.h"
+
+#include "ffdaabb/error.h"
+#include "ffdaabb/generators.h"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace ffd::cli {
+
+namespace {
+
+// The paper's Table 1 (ms, previous FFD-AABB method) and its Table 2.
+struct PaperRow {
+    const char* scene;
+    const char* label;
+    int objects;
+    double mesh, minmax, distance, floor, objects_ms, total;
+    PaperObjectFigures figures;
+};
+constexpr PaperRow kPaper[] = {
+    {"alphabets", "Alphabets", 165, 265.63, 0.16, 1.03, 1.42, 1061.39, 1329.64, kPaperLetter},
+    {"spheres", "Spheres", 100, 115.19, 0.10, 0.47, 1.25, 216.96, 334.28, kPaperSphere},
+    {"teapots", "Teapots", 80, 335.45, 0.27, 1.02, 0.40, 234.13, 571.29, kPaperTeapot},
+    {"buddhas", "Buddhas", 30, 534.02, 0.10, 0.22, 1.40, 371.19, 906.94, kPaperBuddha},
+};
+// The paper reports "about 80-85 %" more frames per second with the enhanced method (Fig. 4).
+constexpr double kPaperRatio = 1.8;
+
+struct BenchOptions {
+    std::string out = "bench-out";
+    int frames = 300;
+    int warmup = 60;
+    std::vector<std::string> scenes{"alphabets", "spheres", "teapots", "buddhas"};
+    int objects = 0;
+    bool quiet = false;
+};
+
+struct ModeResult {
+    std::vector<std::array<double, kStageCount>> frameMs;
+    double mean[kStageCount] = {}, median[kStageCount] = {};
+    double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxPenetration = 0;
+    uint64_t hash = 0;
+    bool finite = true;
+    double fps() const { return mean[6] > 0 ? 1000.0 / mean[6] : 0; }
+};
+
+struct SceneResult {
+    std::string name;
+    int objects = 0;
+    double verticesPerObject = 0, trianglesPerObject = 0, cellsPerObject = 0;
+    size_t vertices = 0, triangles = 0, cells = 0;
+    ModeResult previous, enhanced;
+    const PaperRow* paper = nullptr;
+};
+
+std::array<double, kStageCount> stages(const Profile& p) {
+    return {p.dynamics,        p.nodeUpdate, p.sphereTest, p.floor,
+            p.objectCollision, p.meshUpdate, p.total};
+}
+
+void summarise(ModeResult& m, int frames) {
+    for (int s = 0; s < kStageCount; ++s) {
+        std::vector<double> v;
+        for (const auto& f : m.frameMs) v.push_back(f[size_t(s)]);
+        double sum = 0;
+        for (double x : v) sum += x;
+        m.mean[s] = v.empty() ? 0 : sum / double(v.size());
+        std::sort(v.begin(), v.end());
+        m.median[s] = v.empty() ? 0 : v[v.size() / 2];
+    }
+    m.candidatePairs /= std::max(1, frames);
+    m.potentialPairs /= std::max(1, frames);
+    m.contacts /= std::max(1, frames);
+}
+
+void record(ModeResult& m, const World& w) {
+    const Profile& p = w.profile();
+    m.frameMs.push_back(stages(p));
+    m.candidatePairs += p.candidatePairs;
+    m.potentialPairs += p.potentialPairs;
+    m.contacts += p.contacts;
+    m.maxPenetration = std::max(m.maxPenetration, double(p.maxPenetration));
+}
+
+SceneResult benchScene(const std::string& name, const BenchOptions& o, int index, int count) {
+    Scene scene = sceneFromOptions(name, o.objects, "", 1, -1);
+    SceneResult r;
+    r.name = scene.name;
+    r.objects = scene.objectCount();
+    for (const PaperRow& p : kPaper)
+        if (scene.name == p.scene) r.paper = &p;
+    Scene prev = scene, enh = scene;
+    prev.world.mode = CollisionMode::Previous;
+    enh.world.mode = CollisionMode::Enhanced;
+    SceneBuild a = buildScene(prev), b = buildScene(enh);
+    r.vertices = a.vertices, r.triangles = a.triangles, r.cells = a.cells;
+    r.verticesPerObject = double(a.vertices) / r.objects;
+    r.trianglesPerObject = double(a.triangles) / r.objects;
+    r.cellsPerObject = double(a.cells) / r.objects;
+    auto progress = o.quiet ? std::function<void(int, int)>{}
+                            : progressBar(fmt::format("[{}/{}] {:<10}", index + 1, count, r.name));
+    const int total = o.warmup + o.frames;
+    for (int f = 0; f < total; ++f) {
+        // Alternate the order so that neither mode always runs on a warmer cache.
+        if (f % 2 == 0)
+            a.world.step(), b.world.step();
+        else
+            b.world.step(), a.world.step();
+        if (f >= o.warmup) record(r.previous, a.world), record(r.enhanced, b.world);
+        if (progress) progress(f + 1, total);
+    }
+    summarise(r.previous, o.frames);
+    summarise(r.enhanced, o.frames);
+    r.previous.hash = a.world.stateHash();
+    r.enhanced.hash = b.world.stateHash();
+    for (const SceneBuild* s : {&a, &b})
+        for (BodyId id : s->bodies)
+            for (const Vec3& p : s->world.particles(id))
+                (s == &a ? r.previous : r.enhanced).finite &= isFinite(p);
+    return r;
+}
+
+std::string machineDescription() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line, model = "unknown CPU";
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            model = line.substr(line.find(':') + 2);
+            break;
+        }
+    return fmt::format("{}, {} hardware threads", model, std::thread::hardware_concurrency());
+}
+
+std::string utcNow() {
+    const std::time_t t = std::time(nullptr);
+    char buf[64];
+    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+    return buf;
+}
+
+// Fig. 4 as a bar chart, drawn by Debian's python3 with matplotlib (the script is embedded so
+// the installed binary needs no other file).
+constexpr const char* kPlotScript = R"PY(
+import csv, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+rows = list(csv.DictReader(open(sys.argv[1])))
+names = [r["scene"] for r in rows]
+prev = [float(r["fps_previous"]) for r in rows]
+enh = [float(r["fps_enhanced"]) for r in rows]
+x = range(len(rows))
+fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
+w = 0.38
+b1 = ax.bar([i - w / 2 for i in x], prev, w, label="previous (FFD-AABB, 2011)", color="#7f8c99")
+b2 = ax.bar([i + w / 2 for i in x], enh, w, label="enhanced (bounding spheres, 2012)", color="#e07b39")
+for bars in (b1, b2):
+    for b in bars:
+        ax.annotate(f"{b.get_height():.0f}", (b.get_x() + b.get_width() / 2, b.get_height()),
+                    ha="center", va="bottom", fontsize=8)
+for i, r in enumerate(rows):
+    ax.annotate(f"x{float(r['ratio']):.2f}", (i, max(prev[i], enh[i]) * 1.08), ha="center", fontsize=9)
+ax.set_xticks(list(x))
+ax.set_xticklabels([n.capitalize() for n in names])
+ax.set_ylabel("frames per second (one thread)")
+ax.set_title("Fig. 4 reproduced: previous vs enhanced FFD-AABB")
+ax.set_ylim(0, max(prev + enh) * 1.25)
+ax.legend(loc="upper right", fontsize=8)
+fig.tight_layout()
+fig.savefig(sys.argv[2] + ".tmp.png")
+)PY";
+
+bool plotFig4(const std::filesystem::path& csv, const std::filesystem::path& png,
+              std::string& why) {
+    const char* python =
+        std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const std::filesystem::path script = png.parent_path() / ".fig4_plot.py";
+    writeTextFile(script.string(), kPlotScript);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        if (devnull >= 0) ::dup2(devnull, 1);
+        ::execlp(python, python, script.c_str(), csv.c_str(), png.c_str(),
+                 static_cast<char*>(nullptr));
+        std::_Exit(127);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    std::filesystem::remove(script);
+    const std::filesystem::path tmp = png.string() + ".tmp.png";
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !std::filesystem::exists(tmp)) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        why = fmt::format("{} with matplotlib failed (exit {}); run scripts/setup.sh", python,
+                          WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        return false;
+    }
+    std::filesystem::rename(tmp, png);
+    return true;
+}
+
+std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
+    std::ostringstream md;
+    md << "# Table 1: time per frame by stage (ms)\n\n";
+    md << fmt::format("Mean over {} frames after {} warm-up, one thread; `previous` and `enhanced` "
+                      "stepped side by side. The paper's figures (Core i5 3.3 GHz, previous "
+                      "method) are beside ours.\n\n",
+                      o.frames, o.warmup);
+    md << "| scene | objects | source | mesh updating | min, max updating | distance calculating "
+          "| floor | objects collision | dynamics | total | fps |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const SceneResult& r : rs) {
+        if (r.paper)
+            md << fmt::format("| {} | {} | paper (previous) | {:.2f} | {:.2f} | {:.2f} | {:.2f} | "
+                              "{:.2f} | – | {:.2f} | {:.2f} |\n",
+                              r.paper->label, r.paper->objects, r.paper->mesh, r.paper->minmax,
+                              r.paper->distance, r.paper->floor, r.paper->objects_ms,
+                              r.paper->total, 1000.0 / r.paper->total);
+        for (const auto& [label, m] :
+             {std::pair{"ours, previous", &r.previous}, std::pair{"ours, enhanced", &r.enhanced}})
+            md << fmt::format(
+                "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} "
+                "| {:.3f} | {:.1f} |\n",
+                r.name, r.objects, label, m->mean[5], m->mean[1], m->mean[2], m->mean[3],
+                m->mean[4], m->mean[0], m->mean[6], m->fps());
+    }
+    md << "\nColumns: mesh updating = `mesh_update`; min, max updating = `node_update` (FFD-AABB "
+          "nodes and per-object bounds); distance calculating = `sphere_test` (0 in `previous`, "
+          "which has no phase 1); floor = `floor`; objects collision = `object_collision` (spatial "
+          "hash, node vs planes, response); dynamics = `dynamics` (not in the paper's table).\n";
+    return md.str();
+}
+
+std::string table1Csv(const std::vector<SceneResult>& rs) {
+    std::ostringstream csv;
+    csv << "scene,objects,mode,mesh_update,node_update,sphere_test,floor,object_collision,"
+           "dynamics,total,total_median,fps\n";
+    for (const SceneResult& r : rs) {
+        if (r.paper)
+            csv << fmt::format("{},{},paper_previous,{},{},{},{},{},,{},,{:.3f}\n", r.name,
+                               r.paper->objects, r.paper->mesh, r.paper->minmax, r.paper->distance,
+                               r.paper->floor, r.paper->objects_ms, r.paper->total,
+                               1000.0 / r.paper->total);
+        for (const auto& [label, m] :
+             {std::pair{"previous", &r.previous}, std::pair{"enhanced", &r.enhanced}})
+            csv << fmt::format(
+                "{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f}\n", r.name,
+                r.objects, label, m->mean[5], m->mean[1], m->mean[2], m->mean[3], m->mean[4],
+                m->mean[0], m->mean[6], m->median[6], m->fps());
+    }
+    return csv.str();
+}
+
+std::string table2(const std::vector<SceneResult>& rs) {
+    std::ostringstream md;
+    md << "# Table 2: the objects\n\n";
+    md << "| object | vertices (paper) | vertices (ours) | triangles (paper) | triangles (ours) | "
+          "FFD cells (paper) | FFD cells (ours) |\n|---|---|---|---|---|---|---|\n";
+    for (const SceneResult& r : rs) {
+        if (!r.paper) continue;
+        const PaperObjectFigures& p = r.paper->figures;
+        md << fmt::format("| {} | {} | {:.0f} | {} | {:.0f} | {} | {:.1f} |\n", p.name, p.vertices,
+                          r.verticesPerObject, p.triangles, r.trianglesPerObject, p.cells,
+                          r.cellsPerObject);
+    }
+    md << "\nLetters: averages over the scene's letters (A-Z cycled). Buddha: the Stanford dragon "
+          "simplified to the Buddha's triangle count (the Buddha is not obtainable here).\n";
+    return md.str();
+}
+
+int run(const BenchOptions& o) {
+    if (o.frames < 1 || o.frames > 1000000)
+        throw InputError("--frames", "value " + std::to_string(o.frames) +
+                                         " is out of range (expected 1..1000000)");
+    if (o.warmup < 0) throw InputError("--warmup", "must be >= 0, got " + std::to_string(o.warmup));
+    namespace fs = std::filesystem;
+    const fs::path out(o.out);
+    if (fs::exists(out) && !fs::is_directory(out))
+        throw InputError("--out", "\"" + o.out + "\" exists and is not a folder");
+    if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
+        throw InputError("--out", "the folder " + out.parent_path().string() + " does not exist");
+    for (const std::string& s : o.scenes) loadScene(s); // fail early on a bad name
+    fs::create_directories(out);
+
+    std::vector<SceneResult> results;
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < o.scenes.size(); ++i)
+        results.push_back(benchScene(o.scenes[i], o, int(i), int(o.scenes.size())));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    writeTextFile((out / "table1.md").string(), table1(results, o));
+    writeTextFile((out / "table1.csv").string(), table1Csv(results));
+    writeTextFile((out / "table2.md").string(), table2(results));
+    std::ostringstream fig4;
+    fig4 << "scene,fps_previous,fps_enhanced,ratio,paper_ratio\n";
+    for (const SceneResult& r : results)
+        fig4 << fmt::format("{},{:.2f},{:.2f},{:.3f},{}\n", r.name, r.previous.fps(),
+                            r.enhanced.fps(), r.enhanced.fps() / r.previous.fps(), kPaperRatio);
+    writeTextFile((out / "fig4.csv").string(), fig4.str());
+    std::string why;
+    const bool plotted = plotFig4(out / "fig4.csv", out / "fig4.png", why);
+
+    nlohmann::json summary;
+    summary["machine"] = machineDescription();
+    summary["date"] = utcNow();
+    summary["frames"] = o.frames;
+    summary["warmup"] = o.warmup;
+    summary["threads"] = 1;
+    summary["seconds"] = seconds;
+    summary["fig4_png"] = plotted;
+    for (const SceneResult& r : results) {
+        nlohmann::json j;
+        j["objects"] = r.objects;
+        j["vertices_per_object"] = r.verticesPerObject;
+        j["triangles_per_object"] = r.trianglesPerObject;
+        j["cells_per_object"] = r.cellsPerObject;
+        for (const auto& [label, m] :
+             {std::pair{"previous", &r.previous}, std::pair{"enhanced", &r.enhanced}}) {
+            nlohmann::json mj;
+            for (int s = 0; s < kStageCount; ++s) {
+                mj["stage_ms"][kStageNames[s]] = m->mean[s];
+                mj["stage_ms_median"][kStageNames[s]] = m->median[s];
+            }
+            mj["frames_per_second"] = m->fps();
+            mj["candidate_pairs"] = m->candidatePairs;
+            mj["potential_pairs"] = m->potentialPairs;
+            mj["contacts"] = m->contacts;
+            mj["max_penetration"] = m->maxPenetration;
+            char hash[17];
+            std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(m->hash));
+            mj["state_hash"] = hash;
+            mj["finite"] = m->finite;
+            j[label] = mj;
+        }
+        j["fps_ratio"] = r.enhanced.fps() / r.previous.fps();
+        j["object_collision_ratio"] = r.previous.mean[4] / std::max(1e-9, r.enhanced.mean[4]);
+        j["identical_trajectories"] = r.previous.hash == r.enhanced.hash;
+        summary["scenes"][r.name] = j;
+    }
+    writeTextFile((out / "summary.json").string(), summary.dump(2) + "\n");
+
+    if (!o.quiet) {
+        fmt::print("\n{:<10} {:>8} {:>12} {:>12} {:>8} {:>14} {:>10}\n", "scene", "objects",
+                   "fps prev", "fps enh", "ratio", "coll. ratio", "same hash");
+        for (const SceneResult& r : results)
+            fmt::print("{:<10} {:>8} {:>12.1f} {:>12.1f} {:>8.2f} {:>14.2f} {:>10}\n", r.name,
+                       r.objects, r.previous.fps(), r.enhanced.fps(),
+                       r.enhanced.fps() / r.previous.fps(),
+                       r.previous.mean[4] / std::max(1e-9, r.enhanced.mean[4]),
+                       r.previous.hash == r.enhanced.hash ? "yes" : "NO");
+        fmt::print(
+            "\nwritten to {}/: table1.md table1.csv table2.md fig4.csv {}summary.json ({:.0f} s)\n",
+            out.string(), plotted ? "fig4.png " : "", seconds);
+        if (!plotted) fmt::print(stderr, "ffdaabb: fig4.png not drawn: {}\n", why);
+    }
+    bool ok = true;
+    for (const SceneResult& r : results) ok = ok && r.previous.finite && r.enhanced.finite;
+    return ok ? 0 : 1;
+}
+
+} // namespace
+
+void addBenchCommand(CLI::App& app, Action& action) {
+    auto o = std::make_shared<BenchOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "bench",
+        "Reproduce the paper's Tables 1-2 and Fig. 4 (previous vs enhanced, side by side)");
+    cmd->add_option("--out", o->out,
+                    "Folder for table1.md/.csv, table2.md, fig4.csv/.png, summary.json");
+    cmd->add_option("--frames", o->frames, "Timed frames per scene and mode (default 300)");
+    cmd->add_option("--warmup", o->warmup, "Untimed frames first (default 60)");
+    cmd->add_option("--scenes", o->scenes,
+                    "Scenes to run (default: alphabets spheres teapots buddhas)")
+        ->delimiter(',');
+    cmd->add_option("--objects", o->objects, "Objects per scene (default: the paper's counts)");
+    cmd->add_flag("--quiet", o->quiet, "No progress and no summary");
+    cmd->callback([o, &action] { action = [o] { return run(*o); }; });
+}
+
+} // namespace ffd::cli

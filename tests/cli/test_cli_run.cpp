@@ -1,0 +1,146 @@
+// ffdaabb run / bench / render: contract keys, exports, bad scenes and flags.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <regex>
+
+using namespace ffd::test;
+namespace fs = std::filesystem;
+
+TEST(CliRun, StatsHaveEveryContractKeyAndObjExportHasOneGroupPerBody) {
+    TempDir dir;
+    const RunResult r =
+        runCli({"run", "--scene", "spheres", "--objects", "12", "--frames", "20", "--stats",
+                (dir / "s.json").string(), "--export-obj", (dir / "m.obj").string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(readFile(dir / "s.json"));
+    for (const char* key : {"scene", "mode", "objects", "vertices", "triangles", "cells", "frames",
+                            "stage_ms", "frames_per_second", "candidate_pairs", "contacts",
+                            "max_penetration", "state_hash", "finite"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    for (const char* stage : {"dynamics", "node_update", "sphere_test", "floor", "object_collision",
+                              "mesh_update", "total"})
+        EXPECT_TRUE(j["stage_ms"].contains(stage)) << stage;
+    EXPECT_EQ(j["objects"].get<int>(), 12);
+    EXPECT_EQ(j["vertices"].get<int>(), 12 * 162);
+    EXPECT_EQ(j["frames"].get<int>(), 20);
+    EXPECT_TRUE(j["finite"].get<bool>());
+    EXPECT_EQ(j["state_hash"].get<std::string>().size(), 16u);
+    // One group per body, each with the sphere's 162 vertices and 320 faces.
+    std::ifstream obj(dir / "m.obj");
+    std::string line;
+    int groups = 0, vertices = 0, faces = 0, maxIndex = 0;
+    std::vector<int> perGroup;
+    while (std::getline(obj, line)) {
+        if (line.rfind("o body_", 0) == 0) {
+            EXPECT_EQ(line, "o body_" + std::to_string(groups));
+            ++groups;
+            perGroup.push_back(0);
+        } else if (line.rfind("v ", 0) == 0) {
+            ++vertices, ++perGroup.back();
+        } else if (line.rfind("f ", 0) == 0) {
+            ++faces;
+            int a, b, c;
+            ASSERT_EQ(std::sscanf(line.c_str(), "f %d %d %d", &a, &b, &c), 3);
+            maxIndex = std::max({maxIndex, a, b, c});
+        }
+    }
+    EXPECT_EQ(groups, 12);
+    EXPECT_EQ(vertices, 12 * 162);
+    EXPECT_EQ(faces, 12 * 320);
+    EXPECT_EQ(maxIndex, vertices);
+    for (int n : perGroup) EXPECT_EQ(n, 162);
+}
+
+TEST(CliRun, SameRunTwiceGivesTheSameHash) {
+    TempDir dir;
+    auto hash = [&] {
+        const RunResult r = runCli({"run", "--scene", "teapots", "--objects", "6", "--frames", "30",
+                                    "--quiet", "--stats", (dir / "s.json").string()});
+        EXPECT_EQ(r.status, 0) << r.err;
+        return nlohmann::json::parse(readFile(dir / "s.json"))["state_hash"].get<std::string>();
+    };
+    EXPECT_EQ(hash(), hash());
+}
+
+TEST(CliRun, BadScenesExitTwoNamingTheField) {
+    TempDir dir;
+    struct Case {
+        const char* json;
+        const char* field;
+    };
+    const Case cases[] = {
+        {R"({"objects": [{"mesh": "sphere"}], "wrold": {}})", "wrold"},
+        {R"({"objects": [{"mesh": "sphere", "count": "ten"}]})", "objects[0].count"},
+        {R"({"objects": [{"mesh": "sphere", "lattice": {"cells": 0}}]})",
+         "objects[0].lattice.cells"},
+        {R"({"world": {"substeps": 0}, "objects": [{"mesh": "sphere"}]})", "world.substeps"},
+        {R"({"objects": [{"mesh": {"file": "no_such_mesh.obj"}}]})", "objects[0].mesh.file"},
+        {R"({"objects": [{"mesh": "cube"}]})", "objects[0].mesh"},
+        {R"({"objects": []})", "objects"},
+        {R"({"objects": [{"mesh": "sphere", "material": {"friction": -1}}]})",
+         "objects[0].material.friction"},
+        {R"({"objects": [{"mesh": "sphere"}], "world": {"mode": "fast"}})", "world.mode"},
+        {R"({"objects": [{"mesh": "sphere"}], "layout": {"columns": [0, 3]}})", "layout.columns"},
+        {R"({"objects": [{"mesh": "sphere"}], "world": {"gravity": [0, "down", 0]}})",
+         "world.gravity"},
+    };
+    int n = 0;
+    for (const Case& c : cases) {
+        const fs::path file = dir / ("bad" + std::to_string(n++) + ".json");
+        writeFile(file, c.json);
+        const RunResult r = runCli({"run", "--scene", file.string(), "--frames", "1", "--stats",
+                                    (dir / "never.json").string()});
+        EXPECT_EQ(r.status, 2) << c.json;
+        EXPECT_NE(r.err.find(file.string()), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(c.field), std::string::npos) << c.field << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "never.json"));
+    }
+    writeFile(dir / "garbage.json", "{not json");
+    const RunResult r = runCli({"run", "--scene", (dir / "garbage.json").string()});
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("JSON"), std::string::npos) << r.err;
+}
+
+TEST(CliRun, BadFlagsExitTwo) {
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{"run", "--scene", "spheres", "--frames", "0"},
+          std::vector<std::string>{"run", "--scene", "spheres", "--objects", "-3"},
+          std::vector<std::string>{"run", "--scene", "spheres", "--mode", "sideways"},
+          std::vector<std::string>{"run", "--scene", "spheres", "--threads", "x"},
+          std::vector<std::string>{"run"},
+          std::vector<std::string>{"run", "--scene", "nosuchscene"},
+          std::vector<std::string>{"bench", "--frames", "-1"},
+          std::vector<std::string>{"render", "--scene", "spheres", "--out", "/tmp/x.mp4",
+                                   "--overlay", "rainbows"},
+          std::vector<std::string>{"render", "--scene", "spheres", "--out", "/tmp/x.mp4",
+                                   "--camera", "1,2:3"},
+          std::vector<std::string>{"render", "--scene", "spheres", "--out", "/tmp/x.mp4", "--width",
+                                   "5"}}) {
+        const RunResult r = runCli(args);
+        EXPECT_EQ(r.status, 2) << args.back() << ": " << r.err;
+        EXPECT_FALSE(r.err.empty());
+    }
+}
+
+TEST(CliBench, WritesTablesAndFigureWithIdenticalModes) {
+    TempDir dir;
+    const RunResult r =
+        runCli({"bench", "--frames", "10", "--warmup", "2", "--objects", "8", "--scenes",
+                "spheres,teapots", "--out", (dir / "b").string(), "--quiet"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* f :
+         {"table1.md", "table1.csv", "table2.md", "fig4.csv", "fig4.png", "summary.json"})
+        EXPECT_TRUE(fs::exists(dir / "b" / f)) << f;
+    const auto j = nlohmann::json::parse(readFile(dir / "b" / "summary.json"));
+    for (const char* scene : {"spheres", "teapots"}) {
+        EXPECT_TRUE(j["scenes"][scene]["identical_trajectories"].get<bool>()) << scene;
+        EXPECT_GT(j["scenes"][scene]["enhanced"]["frames_per_second"].get<double>(), 0);
+    }
+    const std::string table1 = readFile(dir / "b" / "table1.md");
+    EXPECT_NE(table1.find("334.28"), std::string::npos); // the paper's spheres total beside ours
+    EXPECT_NE(readFile(dir / "b" / "table2.md").find("6400"), std::string::npos);
+}
