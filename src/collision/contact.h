@@ -98,9 +98,9 @@ struct RigidPoint {
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
 };
 
-/// Fills states[b] for every body b touched by `contacts` (others inactive).
-void prepareRigidStates(std::span<const Contact> contacts, std::span<const Vec3> x,
-                        std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+/// Fills mass, centre and inertia of every body whose state is flagged active.
+void prepareRigidStates(std::span<const Vec3> x, std::span<const float> invMass,
+                        std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states);
 
 /// Step 1: for impacts (approaching faster than impactThreshold), removes the share `rigidity`
@@ -109,7 +109,9 @@ void prepareRigidStates(std::span<const Contact> contacts, std::span<const Vec3>
 /// bodies' particles. Records approachSpeed and rigidImpulse of every contact.
 void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
                      std::vector<RigidPoint>& scratch, std::span<const Vec3> x, std::span<Vec3> v,
-                     float dt, float impactThreshold, int iterations);
+                     std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+                     std::span<const uint32_t> particleCount, float dt, float impactThreshold,
+                     int iterations);
 
 /// Steps 0 and 2: Gauss-Seidel position projection; velocities follow the corrections unless
 /// `v` is empty (pre-stabilisation).
@@ -121,7 +123,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
 /// and Coulomb friction.
 void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
                             std::span<const float> invMass, float dt, float bounceThreshold,
-                            int iterations);
+                            int iterations, std::vector<uint32_t>& activeScratch);
 
 /// Deepest remaining violation of the contacts' constraints (metres, >= 0).
 float residualPenetration(std::span<const Contact> contacts, std::span<const Vec3> x);
@@ -144,6 +146,7 @@ struct CollisionState {
     uint32_t stamp = 0;
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object
+    std::vector<Aabb> partnerBounds, prefixBounds, suffixBounds;
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
     std::vector<Contact> sortScratch;
     std::vector<Contact> floorContacts, objectContacts, all;

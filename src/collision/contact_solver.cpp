@@ -45,15 +45,9 @@ void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, V
     }
 }
 
-void prepareRigidStates(std::span<const Contact> contacts, std::span<const Vec3> x,
-                        std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+void prepareRigidStates(std::span<const Vec3> x, std::span<const float> invMass,
+                        std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states) {
-    states.assign(firstParticle.size(), RigidState{});
-    for (const Contact& c : contacts) {
-        if (c.rigidity <= 0) continue;
-        states[c.bodyA].active = true;
-        if (c.hasB) states[c.bodyB].active = true;
-    }
     for (size_t b = 0; b < states.size(); ++b) {
         RigidState& s = states[b];
         if (!s.active) continue;
@@ -84,13 +78,18 @@ void prepareRigidStates(std::span<const Contact> contacts, std::span<const Vec3>
 
 void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
                      std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
-                     float dt, float impactThreshold, int iterations) {
+                     std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+                     std::span<const uint32_t> particleCount, float dt, float impactThreshold,
+                     int iterations) {
     points.resize(contacts.size());
+    states.assign(firstParticle.size(), RigidState{});
+    bool anyImpact = false;
     for (size_t k = 0; k < contacts.size(); ++k) {
         Contact& c = contacts[k];
         RigidPoint& p = points[k];
         p.base = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(p.base, c.normal);
+        c.rigidImpulse = 0;
         // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is
         // left to the particle level, where a partial rigid target that many contacts share
         // could not be met by one rigid motion and would leave a spurious rotation behind; a
@@ -99,6 +98,16 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
             std::clamp((-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
         p.rigidity = c.rigidity * ramp;
         p.normalImpulse = 0;
+        if (p.rigidity <= 0) continue;
+        anyImpact = true;
+        states[c.bodyA].active = true;
+        if (c.hasB) states[c.bodyB].active = true;
+    }
+    if (!anyImpact) return; // at rest: nothing for the rigid modes to do
+    prepareRigidStates(x, invMass, firstParticle, particleCount, states);
+    for (size_t k = 0; k < contacts.size(); ++k) {
+        const Contact& c = contacts[k];
+        RigidPoint& p = points[k];
         if (p.rigidity <= 0) continue;
         const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
         p.rA = pa - states[c.bodyA].centre;
@@ -109,15 +118,8 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
     for (int it = 0; it < iterations; ++it)
         for (size_t k = 0; k < contacts.size(); ++k) {
             const Contact& c = contacts[k];
-            // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt)
-            // is left to the particle level, where a partial rigid target that many contacts
-            // share could not be met by one rigid motion and would leave a spurious rotation
-            // behind; a hard threshold would make contacts near it flicker.
-            const float ramp = std::clamp(
-                (-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
-            const float rigidity = c.rigidity * ramp;
-            if (rigidity <= 0) continue;
             RigidPoint& p = points[k];
+            if (p.rigidity <= 0) continue;
             RigidState& A = states[c.bodyA];
             RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
             Vec3 rel = p.base + A.dv + cross(A.dw, p.rA);
@@ -130,7 +132,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
             // friction with the body's anisotropic response was found to feed a slow spin).
             const float allowed = -std::fmax(p.gap, 0.0f) * invDt;
             const float target = c.approachSpeed < allowed
-                                     ? c.approachSpeed + rigidity * (allowed - c.approachSpeed)
+                                     ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
                                      : c.approachSpeed;
             const float Kn = rigidInverseMass(A, p.rA, c.normal) +
                              (B ? rigidInverseMass(*B, p.rB, c.normal) : 0.0f);
@@ -145,7 +147,8 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                 B->dw -= B->invInertia * cross(p.rB, impulse);
             }
         }
-    for (size_t k = 0; k < contacts.size(); ++k) contacts[k].rigidImpulse = points[k].normalImpulse;
+    for (size_t k = 0; k < contacts.size(); ++k)
+        if (points[k].rigidity > 0) contacts[k].rigidImpulse = points[k].normalImpulse;
     for (RigidState& s : states) {
         if (!s.active) continue;
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
@@ -187,7 +190,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
 
 void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
                             std::span<const float> invMass, float dt, float bounceThreshold,
-                            int iterations) {
+                            int iterations, std::vector<uint32_t>& active) {
     for (Contact& c : contacts) {
         c.normalImpulse = 0;
         c.tangentImpulse = {};
@@ -195,8 +198,13 @@ void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x
         c.gap = std::fmax(dot(blend(c.a, x) - pb, c.normal) - c.offset, 0.0f);
     }
     const float invDt = 1.0f / dt;
-    for (int it = 0; it < iterations; ++it)
-        for (Contact& c : contacts) {
+    // The first sweep visits every contact; the later ones only those that act (an impulse, or
+    // a friction budget): most contacts are speculative and still apart.
+    active.clear();
+    for (int it = 0; it < iterations; ++it) {
+        const size_t count = it == 0 ? contacts.size() : active.size();
+        for (size_t n = 0; n < count; ++n) {
+            Contact& c = contacts[it == 0 ? n : active[n]];
             const float W = c.invMassA + c.invMassB;
             if (!(W > 0)) continue;
             const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
@@ -219,9 +227,14 @@ void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x
                 c.tangentImpulse = t;
                 impulse += t - oldTangent;
             }
+            if (it == 0) {
+                if (c.normalImpulse == 0 && limit == 0) continue;
+                active.push_back(uint32_t(n));
+            }
             push(c.a, v, invMass, impulse);
             if (c.hasB) push(c.b, v, invMass, -impulse);
         }
+    }
 }
 
 float residualPenetration(std::span<const Contact> contacts, std::span<const Vec3> x) {

@@ -328,19 +328,39 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     s.hash.build();
     // Each box of a candidate object visits the hash cells its node bounds (grown by the
     // largest margin any of its partners can need) overlap and tests the nodes of the other
-    // objects it forms a candidate pair with.
+    // objects it forms a candidate pair with. A box whose grown bounds miss every partner's
+    // bounds is skipped unqueried: a node lies within its object's bounds, so no contact is lost.
+    // The rule is the same in both modes; in `previous` every other object is a partner.
     s.partnerMark.assign(n, 0);
     s.partnerMargin.resize(n);
+    // Bounds of all objects but one, for `previous`: prefix and suffix unions.
+    std::vector<Aabb>& prefix = s.prefixBounds;
+    std::vector<Aabb>& suffix = s.suffixBounds;
+    if (!enhanced) {
+        prefix.assign(n + 1, Aabb{});
+        suffix.assign(n + 1, Aabb{});
+        for (uint32_t a = 0; a < n; ++a) {
+            prefix[a + 1] = prefix[a];
+            prefix[a + 1].add(w.bodies[a].bounds);
+        }
+        for (uint32_t a = n; a-- > 0;) {
+            suffix[a] = suffix[a + 1];
+            suffix[a].add(w.bodies[a].bounds);
+        }
+    }
+    constexpr uint32_t kIndividual = 8; // partners tested one by one up to this many
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
-        // The largest margin any partner can need: the query must reach that far.
         // Each partner's margin once per object, and the largest: the query must reach that far.
         float reach = 0;
+        s.partnerBounds.clear();
+        Aabb partnerUnion;
         auto addPartner = [&](uint32_t a) {
             s.partnerMark[a] = 1;
             s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
             reach = std::fmax(reach, s.partnerMargin[a]);
+            s.partnerBounds.push_back(w.bodies[a].bounds);
         };
         if (enhanced) {
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
@@ -349,17 +369,30 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             for (uint32_t a = 0; a < n; ++a)
                 if (a != b) addPartner(a);
         }
+        const bool individual = s.partnerBounds.size() <= kIndividual;
+        if (!individual) {
+            if (enhanced)
+                for (const Aabb& a : s.partnerBounds) partnerUnion.add(a);
+            else
+                partnerUnion = prefix[b], partnerUnion.add(suffix[b + 1]);
+        }
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             const Aabb& bb = w.boxBounds[box];
-            const int32_t i0 = s.hash.cell(bb.lo.x - reach), i1 = s.hash.cell(bb.hi.x + reach);
-            const int32_t j0 = s.hash.cell(bb.lo.y - reach), j1 = s.hash.cell(bb.hi.y + reach);
-            const int32_t k0 = s.hash.cell(bb.lo.z - reach), k1 = s.hash.cell(bb.hi.z + reach);
-            if (i1 - i0 > 100 || j1 - j0 > 100 || k1 - k0 > 100) {
-                fprintf(stderr, "DEBUG reach %g box %u bb %g %g %g - %g %g %g cell %g\n", reach,
-                        box, bb.lo.x, bb.lo.y, bb.lo.z, bb.hi.x, bb.hi.y, bb.hi.z,
-                        s.hash.cellSize());
-                abort();
+            const Aabb grown{bb.lo - Vec3{reach, reach, reach}, bb.hi + Vec3{reach, reach, reach}};
+            bool near = false;
+            if (individual) {
+                for (const Aabb& a : s.partnerBounds)
+                    if (grown.overlaps(a)) {
+                        near = true;
+                        break;
+                    }
+            } else {
+                near = grown.overlaps(partnerUnion);
             }
+            if (!near) continue;
+            const int32_t i0 = s.hash.cell(grown.lo.x), i1 = s.hash.cell(grown.hi.x);
+            const int32_t j0 = s.hash.cell(grown.lo.y), j1 = s.hash.cell(grown.hi.y);
+            const int32_t k0 = s.hash.cell(grown.lo.z), k1 = s.hash.cell(grown.hi.z);
             s.hash.forEachInRange(i0, i1, j0, j1, k0, k1, b, [&](const SpatialHash::Entry& e) {
                 if (s.partnerMark[e.owner])
                     testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
@@ -389,8 +422,8 @@ void respondBeforeMove(WorldData& w, float dt) {
     const int iterations = w.settings.solverIterations;
     solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, s.activeContacts);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    prepareRigidStates(s.all, w.x, w.invMass, s.bodyFirstParticle, s.bodyParticleCount, s.rigid);
-    solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, dt, impact, iterations);
+    solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
+                    s.bodyParticleCount, dt, impact, iterations);
 }
 
 float respondAfterMove(WorldData& w, float dt) {
@@ -399,7 +432,7 @@ float respondAfterMove(WorldData& w, float dt) {
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, s.activeContacts);
-    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations);
+    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations, s.activeContacts);
     return residualPenetration(s.all, w.x);
 }
 
