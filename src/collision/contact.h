@@ -72,7 +72,8 @@ struct Contact {
     Vec3 tangentImpulse;       ///< |.| <= friction * (rigid + position + normal impulses)
 };
 
-/// Sort key giving every contact set the same order whichever pipeline found it.
+/// Sort key giving every contact set the same order whichever pipeline found it: by A's node,
+/// then B's box.
 inline uint64_t contactKey(const Contact& c) {
     return (uint64_t(c.nodeA) << 32) | c.boxB;
 }
@@ -93,8 +94,13 @@ struct RigidState {
 
 /// Per-contact scratch of the rigid phase.
 struct RigidPoint {
-    Vec3 rA, rB, base; ///< arms from the centres, relative velocity before the phase
-    float gap = 0, normalImpulse = 0;
+    Vec3 armA, armB;    ///< r x n on A and B: the normal's angular direction
+    Vec3 turnA, turnB;  ///< I^-1 (r x n): angular velocity change per unit normal impulse
+    float invMassA = 0; ///< A's linear inverse mass (0 when A is not involved)
+    float invMassB = 0; ///< B's, 0 for the floor
+    float invK = 0;     ///< 1 / (normal inverse effective mass of the pair)
+    float target = 0;   ///< normal velocity the phase aims at
+    float normalImpulse = 0;
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
 };
 
@@ -111,7 +117,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::vector<RigidPoint>& scratch, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     int iterations);
+                     int iterations, std::vector<uint32_t>& impactScratch);
 
 /// Steps 0 and 2: Gauss-Seidel position projection; velocities follow the corrections unless
 /// `v` is empty (pre-stabilisation).
@@ -120,13 +126,12 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
                            std::vector<uint32_t>& activeScratch);
 
 /// Step 3: the speculative normal bound, restitution (approaches faster than bounceThreshold)
-/// and Coulomb friction.
-void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
-                            std::span<const float> invMass, float dt, float bounceThreshold,
-                            int iterations, std::vector<uint32_t>& activeScratch);
-
-/// Deepest remaining violation of the contacts' constraints (metres, >= 0).
-float residualPenetration(std::span<const Contact> contacts, std::span<const Vec3> x);
+/// and Coulomb friction. Returns the deepest remaining violation of the contacts' constraints
+/// (metres, >= 0; the positions do not change in this step).
+float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
+                             std::span<Vec3> v, std::span<const float> invMass, float dt,
+                             float bounceThreshold, int iterations,
+                             std::vector<uint32_t>& activeScratch);
 
 /// An object pair that passed the bounding-sphere test (dense body indices, a < b).
 struct CandidatePair {
@@ -147,15 +152,21 @@ struct CollisionState {
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object
     std::vector<Aabb> partnerBounds, prefixBounds, suffixBounds;
-    std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
+    /// This substep's contacts: the objects' (canonical order), then the floor's.
+    std::vector<Contact> all;
+    std::vector<std::pair<uint64_t, uint32_t>> sortKeys; ///< scratch of the canonical sort
     std::vector<Contact> sortScratch;
-    std::vector<Contact> floorContacts, objectContacts, all;
+    size_t objectCount = 0;
+    std::span<const Contact> objectContacts() const { return {all.data(), objectCount}; }
+    std::span<const Contact> floorContacts() const {
+        return {all.data() + objectCount, all.size() - objectCount};
+    }
     std::vector<uint32_t> nodeBody, boxBody; ///< world-wide node/box -> dense body
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase
     std::vector<uint32_t> bodyFirstParticle, bodyParticleCount;
     std::vector<RigidPoint> rigidPoints;
-    std::vector<uint32_t>
-        activeContacts; ///< scratch of the position projection ///< scratch of the rigid phase
+    std::vector<uint32_t> activeContacts; ///< scratch of the projection and velocity pass
+    std::vector<uint32_t> impacts;        ///< scratch of the rigid phase
 };
 
 } // namespace ffd::detail

@@ -27,12 +27,6 @@ void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> 
     }
 }
 
-// Inverse effective mass of a rigid body at arm r along direction d.
-float rigidInverseMass(const RigidState& s, Vec3 r, Vec3 d) {
-    const Vec3 rd = cross(r, d);
-    return s.invMass + dot(rd, s.invInertia * rd);
-}
-
 } // namespace
 
 void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
@@ -80,15 +74,15 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     int iterations) {
+                     int iterations, std::vector<uint32_t>& impacts) {
     points.resize(contacts.size());
     states.assign(firstParticle.size(), RigidState{});
-    bool anyImpact = false;
+    impacts.clear();
     for (size_t k = 0; k < contacts.size(); ++k) {
         Contact& c = contacts[k];
         RigidPoint& p = points[k];
-        p.base = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
-        c.approachSpeed = dot(p.base, c.normal);
+        const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
         // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is
         // left to the particle level, where a partial rigid target that many contacts share
@@ -99,56 +93,68 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         p.rigidity = c.rigidity * ramp;
         p.normalImpulse = 0;
         if (p.rigidity <= 0) continue;
-        anyImpact = true;
+        impacts.push_back(uint32_t(k));
         states[c.bodyA].active = true;
         if (c.hasB) states[c.bodyB].active = true;
     }
-    if (!anyImpact) return; // at rest: nothing for the rigid modes to do
+    if (impacts.empty()) return; // at rest: nothing for the rigid modes to do
     prepareRigidStates(x, invMass, firstParticle, particleCount, states);
-    for (size_t k = 0; k < contacts.size(); ++k) {
+    // What does not change over the iterations, once per contact: the arms' angular directions,
+    // the effective mass and the target normal velocity.
+    const float invDt = 1.0f / dt;
+    for (uint32_t k : impacts) {
         const Contact& c = contacts[k];
         RigidPoint& p = points[k];
-        if (p.rigidity <= 0) continue;
+        const RigidState& A = states[c.bodyA];
         const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
-        p.rA = pa - states[c.bodyA].centre;
-        p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
-        p.gap = dot(pa - pb, c.normal) - c.offset;
+        p.armA = cross(pa - A.centre, c.normal);
+        p.turnA = A.invInertia * p.armA;
+        p.invMassA = A.invMass;
+        float K = A.invMass + dot(p.armA, p.turnA);
+        if (c.hasB) {
+            const RigidState& B = states[c.bodyB];
+            p.armB = cross(pb - B.centre, c.normal);
+            p.turnB = B.invInertia * p.armB;
+            p.invMassB = B.invMass;
+            K += B.invMass + dot(p.armB, p.turnB);
+        } else {
+            p.armB = p.turnB = Vec3{};
+            p.invMassB = 0;
+        }
+        p.invK = K > 0 ? 1.0f / K : 0.0f;
+        // The approach that would close more than the gap this substep, scaled by the
+        // rigidity: the rest is left to the particle-level projection (deformation). Normal
+        // only: friction is force-limited, so the particle-level pass removes the same momentum
+        // once its limit counts this phase's normal impulse (a rigid-level friction with the
+        // body's anisotropic response was found to feed a slow spin).
+        const float gap = dot(pa - pb, c.normal) - c.offset;
+        const float allowed = -maxNum(gap, 0.0f) * invDt;
+        p.target = c.approachSpeed < allowed
+                       ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
+                       : c.approachSpeed;
     }
-    const float invDt = 1.0f / dt;
     for (int it = 0; it < iterations; ++it)
-        for (size_t k = 0; k < contacts.size(); ++k) {
+        for (uint32_t k : impacts) {
             const Contact& c = contacts[k];
             RigidPoint& p = points[k];
-            if (p.rigidity <= 0) continue;
+            if (p.invK == 0) continue;
             RigidState& A = states[c.bodyA];
+            // Normal relative velocity: base + (dv_A + dw_A x r_A) . n - (B's), with
+            // (w x r) . n = w . (r x n).
+            float vn = c.approachSpeed + dot(A.dv, c.normal) + dot(A.dw, p.armA);
             RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
-            Vec3 rel = p.base + A.dv + cross(A.dw, p.rA);
-            if (B) rel -= B->dv + cross(B->dw, p.rB);
-            const float vn = dot(rel, c.normal);
-            // The approach that would close more than the gap this substep, scaled by the
-            // rigidity: the rest is left to the particle-level projection (deformation).
-            // Normal only: friction is force-limited, so the particle-level pass removes the
-            // same momentum once its limit counts this phase's normal impulse (a rigid-level
-            // friction with the body's anisotropic response was found to feed a slow spin).
-            const float allowed = -std::fmax(p.gap, 0.0f) * invDt;
-            const float target = c.approachSpeed < allowed
-                                     ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
-                                     : c.approachSpeed;
-            const float Kn = rigidInverseMass(A, p.rA, c.normal) +
-                             (B ? rigidInverseMass(*B, p.rB, c.normal) : 0.0f);
-            if (!(Kn > 0)) continue;
+            if (B) vn -= dot(B->dv, c.normal) + dot(B->dw, p.armB);
             const float old = p.normalImpulse;
-            p.normalImpulse = std::fmax(old + (target - vn) / Kn, 0.0f);
-            const Vec3 impulse = c.normal * (p.normalImpulse - old);
-            A.dv += impulse * A.invMass;
-            A.dw += A.invInertia * cross(p.rA, impulse);
+            p.normalImpulse = maxNum(old + (p.target - vn) * p.invK, 0.0f);
+            const float d = p.normalImpulse - old;
+            A.dv += c.normal * (d * p.invMassA);
+            A.dw += p.turnA * d;
             if (B) {
-                B->dv -= impulse * B->invMass;
-                B->dw -= B->invInertia * cross(p.rB, impulse);
+                B->dv -= c.normal * (d * p.invMassB);
+                B->dw -= p.turnB * d;
             }
         }
-    for (size_t k = 0; k < contacts.size(); ++k)
-        if (points[k].rigidity > 0) contacts[k].rigidImpulse = points[k].normalImpulse;
+    for (uint32_t k : impacts) contacts[k].rigidImpulse = points[k].normalImpulse;
     for (RigidState& s : states) {
         if (!s.active) continue;
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
@@ -188,14 +194,18 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
     }
 }
 
-void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x, std::span<Vec3> v,
-                            std::span<const float> invMass, float dt, float bounceThreshold,
-                            int iterations, std::vector<uint32_t>& active) {
+float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
+                             std::span<Vec3> v, std::span<const float> invMass, float dt,
+                             float bounceThreshold, int iterations, std::vector<uint32_t>& active) {
+    // The positions are final here: the gaps, and the deepest violation left, once.
+    float deepest = 0;
     for (Contact& c : contacts) {
         c.normalImpulse = 0;
         c.tangentImpulse = {};
         const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-        c.gap = std::fmax(dot(blend(c.a, x) - pb, c.normal) - c.offset, 0.0f);
+        const float C = dot(blend(c.a, x) - pb, c.normal) - c.offset;
+        c.gap = maxNum(C, 0.0f);
+        deepest = maxNum(deepest, -C);
     }
     const float invDt = 1.0f / dt;
     // The first sweep visits every contact; the later ones only those that act (an impulse, or
@@ -213,9 +223,9 @@ void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x
             // impacts by the restitution.
             float target = -c.gap * invDt;
             if (c.restitution > 0 && c.approachSpeed < -bounceThreshold)
-                target = std::fmax(target, -c.restitution * c.approachSpeed);
+                target = maxNum(target, -c.restitution * c.approachSpeed);
             const float oldNormal = c.normalImpulse;
-            c.normalImpulse = std::fmax(oldNormal + (target - vn) / W, 0.0f);
+            c.normalImpulse = maxNum(oldNormal + (target - vn) / W, 0.0f);
             Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
             const float limit = c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse);
             if (limit > 0) {
@@ -234,15 +244,6 @@ void solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x
             push(c.a, v, invMass, impulse);
             if (c.hasB) push(c.b, v, invMass, -impulse);
         }
-    }
-}
-
-float residualPenetration(std::span<const Contact> contacts, std::span<const Vec3> x) {
-    float deepest = 0;
-    for (const Contact& c : contacts) {
-        const Vec3 pa = blend(c.a, x);
-        const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-        deepest = std::fmax(deepest, c.offset - dot(pa - pb, c.normal));
     }
     return deepest;
 }

@@ -47,9 +47,9 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec
     c.boxB = box;
     c.hasB = true;
     c.normal = planes.normal[hit.face];
-    c.depth = std::fmax(0.0f, -hit.distance);
+    c.depth = maxNum(0.0f, -hit.distance);
     c.friction = combineFriction(A, B);
-    c.restitution = std::fmax(A.settings.restitution, B.settings.restitution);
+    c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
     c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
 
     const CellBox& boxA = LA.boxes[node / 8 - A.firstBox];
@@ -74,7 +74,9 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec
 }
 
 // Canonical order whatever found them: sorts small (key, index) pairs, then moves each contact
-// once, rather than shuffling the large contacts themselves.
+// once, rather than shuffling the large contacts themselves. Node-major (contactKey): ordering
+// the Gauss-Seidel sweeps box by box instead left the paper's piles measurably more entangled
+// (docs/ALGORITHM.md).
 void sortContacts(std::vector<Contact>& contacts, std::vector<std::pair<uint64_t, uint32_t>>& keys,
                   std::vector<Contact>& scratch) {
     keys.resize(contacts.size());
@@ -91,7 +93,7 @@ bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
     // The narrow phase accepts nodes up to one margin outside a box's node bounds, which is
     // within sqrt(3) margins of the sphere: allow twice the larger margin so the test stays
     // conservative and the modes find identical contacts.
-    const float margin = 2.0f * std::fmax(marginOf(w, a, b), marginOf(w, b, a));
+    const float margin = 2.0f * maxNum(marginOf(w, a, b), marginOf(w, b, a));
     const float r = a.sphereRadius + b.sphereRadius + margin;
     return lengthSquared(a.sphereCentre - b.sphereCentre) < r * r;
 }
@@ -131,7 +133,7 @@ void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
         Vec3 momentum{};
         float mass = 0;
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) {
-            speed2 = std::fmax(speed2, lengthSquared(w.v[i]));
+            speed2 = maxNum(speed2, lengthSquared(w.v[i]));
             const float m = 1.0f / w.invMass[i];
             momentum += w.v[i] * m;
             mass += m;
@@ -140,7 +142,7 @@ void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
         r.meanVelocity = momentum / mass;
         float spread2 = 0;
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-            spread2 = std::fmax(spread2, lengthSquared(w.v[i] - r.meanVelocity));
+            spread2 = maxNum(spread2, lengthSquared(w.v[i] - r.meanVelocity));
         r.spread = std::sqrt(spread2);
         Aabb body;
         for (uint32_t k = 0; k < r.boxCount; ++k) {
@@ -169,8 +171,8 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     float maxSkin = 0, maxSpeed = 0;
     for (uint32_t i = 0; i < n; ++i) {
         order[i] = i;
-        maxSkin = std::fmax(maxSkin, skinOf(w, w.bodies[i]));
-        maxSpeed = std::fmax(maxSpeed, w.bodies[i].maxSpeed);
+        maxSkin = maxNum(maxSkin, skinOf(w, w.bodies[i]));
+        maxSpeed = maxNum(maxSpeed, w.bodies[i].maxSpeed);
     }
     const float maxMargin = 2.0f * (maxSkin + 2.0f * w.substep * maxSpeed);
     auto lo = [&](uint32_t i) { return w.bodies[i].sphereCentre.x - w.bodies[i].sphereRadius; };
@@ -199,7 +201,7 @@ void sphereTest(WorldData& w) {
         for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
             const Aabb& b = w.boxBounds[k];
             const Vec3 d = max(b.hi - c, c - b.lo);
-            r2 = std::fmax(r2, lengthSquared(d));
+            r2 = maxNum(r2, lengthSquared(d));
         }
         r.sphereCentre = c;
         r.sphereRadius = std::sqrt(r2);
@@ -228,7 +230,7 @@ void sphereTest(WorldData& w) {
 
 void findFloorContacts(WorldData& w) {
     CollisionState& s = w.collision;
-    s.floorContacts.clear();
+    s.all.resize(s.objectCount);
     w.profile.floorContacts = 0;
     if (!w.settings.floor) return;
     const float floorY = w.settings.floorHeight;
@@ -249,17 +251,17 @@ void findFloorContacts(WorldData& w) {
                 c.nodeA = node;
                 c.normal = {0, 1, 0};
                 c.offset = floorY;
-                c.depth = std::fmax(0.0f, floorY - y);
+                c.depth = maxNum(0.0f, floorY - y);
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
                 c.rigidity = r.settings.contactRigidity;
                 makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
                                  box.nodeLocal(n), w.invMass, c.a, c.invMassA);
-                s.floorContacts.push_back(c);
+                s.all.push_back(c);
             }
         }
     }
-    w.profile.floorContacts = int(s.floorContacts.size());
+    w.profile.floorContacts = int(s.all.size() - s.objectCount);
 }
 
 void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& out,
@@ -315,7 +317,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     for (uint32_t b = 0; b < n; ++b)
         if (isCandidate(b)) {
             nodeCount += size_t(w.bodies[b].boxCount) * 8;
-            cell = std::fmax(cell, w.bodies[b].cellSize);
+            cell = maxNum(cell, w.bodies[b].cellSize);
         }
     if (nodeCount == 0) return;
     s.hash.begin(nodeCount, cell);
@@ -359,7 +361,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         auto addPartner = [&](uint32_t a) {
             s.partnerMark[a] = 1;
             s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
-            reach = std::fmax(reach, s.partnerMargin[a]);
+            reach = maxNum(reach, s.partnerMargin[a]);
             s.partnerBounds.push_back(w.bodies[a].bounds);
         };
         if (enhanced) {
@@ -407,13 +409,11 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     sortContacts(out, s.sortKeys, s.sortScratch);
 }
 
-void findAllContacts(WorldData& w) {
+void findAllObjectContacts(WorldData& w) {
     CollisionState& s = w.collision;
-    findObjectContacts(w, w.settings.mode, s.objectContacts, w.profile.potentialPairs);
-    w.profile.contacts = int(s.objectContacts.size());
-    s.all.clear();
-    s.all.insert(s.all.end(), s.objectContacts.begin(), s.objectContacts.end());
-    s.all.insert(s.all.end(), s.floorContacts.begin(), s.floorContacts.end());
+    findObjectContacts(w, w.settings.mode, s.all, w.profile.potentialPairs);
+    s.objectCount = s.all.size();
+    w.profile.contacts = int(s.objectCount);
 }
 
 void respondBeforeMove(WorldData& w, float dt) {
@@ -423,7 +423,7 @@ void respondBeforeMove(WorldData& w, float dt) {
     solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, s.activeContacts);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
-                    s.bodyParticleCount, dt, impact, iterations);
+                    s.bodyParticleCount, dt, impact, iterations, s.impacts);
 }
 
 float respondAfterMove(WorldData& w, float dt) {
@@ -432,8 +432,8 @@ float respondAfterMove(WorldData& w, float dt) {
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, s.activeContacts);
-    solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations, s.activeContacts);
-    return residualPenetration(s.all, w.x);
+    return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,
+                                  s.activeContacts);
 }
 
 } // namespace ffd::detail

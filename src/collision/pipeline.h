@@ -34,7 +34,8 @@ void sphereTestAllPairs(WorldData& world, std::vector<CandidatePair>& out);
 void sphereTestSweep(WorldData& world, std::vector<CandidatePair>& out);
 
 /// floor: contacts of box nodes with the floor, found on the current positions (speculative:
-/// within the skin plus the distance the node can travel this substep).
+/// within the skin plus the distance the node can travel this substep), appended to
+/// world.collision.all after the object contacts (findAllObjectContacts runs first).
 void findFloorContacts(WorldData& world);
 
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
@@ -42,9 +43,10 @@ void findFloorContacts(WorldData& world);
 void findObjectContacts(WorldData& world, CollisionMode mode, std::vector<Contact>& out,
                         int& outPotentialPairs);
 
-/// object_collision: findObjectContacts, and the substep's contact list (object contacts, then
-/// the floor's), solved together so that piles and the floor push each other consistently.
-void findAllContacts(WorldData& world);
+/// object_collision: findObjectContacts into world.collision.all, which findFloorContacts then
+/// completes with the floor's: both are solved together so that piles and the floor push each
+/// other consistently.
+void findAllObjectContacts(WorldData& world);
 
 /// The response before the position update: pre-stabilisation and the rigid phase (see
 /// collision/contact.h).

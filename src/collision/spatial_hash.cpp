@@ -27,7 +27,8 @@ void SpatialHash::begin(size_t expectedEntries, float cellSize) {
     if (buckets_.size() < wanted) {
         // Grow (never shrink, so the steady state reuses the table); fresh buckets carry stamp 0.
         buckets_.assign(nextPrime(uint32_t(wanted)), Bucket{});
-        modMagic_ = ~uint64_t(0) / buckets_.size() + 1;
+        tableSize_ = uint32_t(buckets_.size());
+        modMagic_ = fastModMagic(tableSize_);
         stamp_ = 0;
     }
     if (++stamp_ == 0) { // wrapped after 2^32 steps: clear once

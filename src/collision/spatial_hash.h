@@ -25,6 +25,17 @@ uint32_t nextPrime(uint32_t n);
 
 __extension__ using Uint128 = unsigned __int128;
 
+/// The magic number of fastMod for divisor t (t >= 1).
+constexpr uint64_t fastModMagic(uint32_t t) {
+    return ~uint64_t(0) / t + 1;
+}
+
+/// h mod t without a division, given magic = fastModMagic(t) (Lemire, Kaser, Kurz, "Faster
+/// Remainder by Direct Computation", 2019): exact for every 32-bit h and t.
+constexpr uint32_t fastMod(uint32_t h, uint64_t magic, uint32_t t) {
+    return uint32_t((Uint128(magic * h) * t) >> 64);
+}
+
 class SpatialHash {
 public:
     struct Entry {
@@ -60,7 +71,8 @@ public:
     static constexpr uint32_t kNoOwner = UINT32_MAX;
 
     /// forEachInCell over every cell of a range. The buckets are looked up (and prefetched)
-    /// before any is read, so their cache misses overlap instead of queueing.
+    /// before any is read, then the entries of those that matter, so their cache misses
+    /// overlap instead of queueing.
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, F&& f) const {
@@ -68,14 +80,26 @@ public:
         uint32_t hs[kBatch];
         int32_t cs[kBatch][3];
         int n = 0;
+        const Bucket* live[kBatch];
+        int liveCell[kBatch];
         auto flush = [&] {
+            // Second level: the buckets that hold anything of interest, their entries
+            // prefetched before the first is scanned.
+            int lives = 0;
             for (int m = 0; m < n; ++m) {
                 const Bucket& b = buckets_[hs[m]];
                 if (b.stamp != stamp_ || b.soleOwner == skipOwner) continue;
+                __builtin_prefetch(entries_.data() + b.start);
+                live[lives] = &b;
+                liveCell[lives++] = m;
+            }
+            for (int l = 0; l < lives; ++l) {
+                const Bucket& b = *live[l];
+                const int32_t* c = cs[liveCell[l]];
                 const Entry* e = entries_.data() + b.start;
                 for (uint32_t q = 0; q < b.count; ++q)
-                    if (e[q].owner != skipOwner && e[q].i == cs[m][0] && e[q].j == cs[m][1] &&
-                        e[q].k == cs[m][2])
+                    if (e[q].owner != skipOwner && e[q].i == c[0] && e[q].j == c[1] &&
+                        e[q].k == c[2])
                         f(e[q]);
             }
             n = 0;
@@ -108,14 +132,15 @@ private:
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
         const uint32_t h =
             (uint32_t(i) * 73856093u) ^ (uint32_t(j) * 19349663u) ^ (uint32_t(k) * 83492791u);
-        return h % uint32_t(buckets_.size());
+        return fastMod(h, modMagic_, tableSize_);
     }
 
     std::vector<Bucket> buckets_;
     std::vector<Entry> staged_, entries_;
     std::vector<uint32_t> touched_, slotOf_, bucketOf_;
     uint32_t stamp_ = 0;
-    uint64_t modMagic_ = 0; ///< ceil(2^64 / T)
+    uint64_t modMagic_ = 0;  ///< ceil(2^64 / T)
+    uint32_t tableSize_ = 1; ///< T
     float cellSize_ = 1, inverseCellSize_ = 1;
 };
 

@@ -131,7 +131,7 @@ int stepMassSpring(const MassSpringModel& model, const MassSpringStep& step,
         const Vec3 f = dir * (-stiffness * (len - sp.rest));
         s.force[sp.a] += f;
         s.force[sp.b] -= f;
-        const float transverse = std::fmax(0.0f, 1.0f - sp.rest / len);
+        const float transverse = maxNum(0.0f, 1.0f - sp.rest / len);
         const Mat3 nn = outer(dir, dir);
         const Mat3 J = (nn + (Mat3::identity() + nn * -1.0f) * transverse) * -stiffness;
         s.jacobian[k] = J;

@@ -12,7 +12,7 @@ namespace {
 
 // Rotation of q by the world-frame rotation vector omega (angle |omega|, at most pi).
 Quat turn(const Quat& q, Vec3 omega, float angle) {
-    const float half = 0.5f * std::fmin(angle, 3.14159265f);
+    const float half = 0.5f * minNum(angle, 3.14159265f);
     float s, c;
     if (half < 0.03f) {
         // Taylor series: exact to float precision here and much cheaper than sin/cos.

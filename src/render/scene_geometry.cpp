@@ -68,8 +68,8 @@ void appendContacts(const World& world, std::vector<LineVertex>& out) {
         addLine(p - Vec3{0, 0, s}, p + Vec3{0, 0, s}, colour, out);
         addLine(p, p + c.normal * (0.6f * h), colour, out);
     };
-    for (const ffd::detail::Contact& c : w.collision.objectContacts) draw(c, kObjectContactColour);
-    for (const ffd::detail::Contact& c : w.collision.floorContacts) draw(c, kFloorContactColour);
+    for (const ffd::detail::Contact& c : w.collision.objectContacts()) draw(c, kObjectContactColour);
+    for (const ffd::detail::Contact& c : w.collision.floorContacts()) draw(c, kFloorContactColour);
 }
 
 } // namespace

@@ -388,11 +388,14 @@ void World::step() {
         // can travel this substep); part of the response acts before the positions move and
         // part after (collision/contact.h).
         t = Clock::now();
+        detail::findAllObjectContacts(w);
+        prof.objectCollision += msSince(t);
+
+        t = Clock::now();
         detail::findFloorContacts(w);
         prof.floor += msSince(t);
 
         t = Clock::now();
-        detail::findAllContacts(w);
         detail::respondBeforeMove(w, dt);
         prof.objectCollision += msSince(t);
 
@@ -407,7 +410,7 @@ void World::step() {
         prof.dynamics += msSince(t);
 
         t = Clock::now();
-        deepest = std::fmax(deepest, detail::respondAfterMove(w, dt));
+        deepest = maxNum(deepest, detail::respondAfterMove(w, dt));
         prof.objectCollision += msSince(t);
     }
     for (BodyRecord& r : w.bodies) r.force = {};

@@ -124,6 +124,20 @@ TEST(NarrowPhase, TrilinearInversionRecoversLocalCoordinates) {
     }
 }
 
+TEST(SpatialHash, FastModIsTheRemainder) {
+    std::mt19937 rng(11);
+    const uint32_t divisors[] = {1u, 2u, 3u, 7u, 101u, 65537u, 1000003u, 2147483647u, 4294967291u};
+    for (uint32_t t : divisors) {
+        const uint64_t magic = detail::fastModMagic(t);
+        for (uint32_t h : {0u, 1u, t - 1, t, t + 1, 0xffffffffu, 0x80000000u})
+            EXPECT_EQ(detail::fastMod(h, magic, t), h % t) << h << " mod " << t;
+        for (int n = 0; n < 20000; ++n) {
+            const uint32_t h = uint32_t(rng());
+            ASSERT_EQ(detail::fastMod(h, magic, t), h % t) << h << " mod " << t;
+        }
+    }
+}
+
 TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
     detail::SpatialHash hash;
     // A tiny table: many cells share a bucket, and the exact-cell check must keep them apart.
@@ -262,6 +276,8 @@ TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
         const auto previous = contactSet(w, CollisionMode::Previous);
         const auto enhanced = contactSet(w, CollisionMode::Enhanced);
         ASSERT_EQ(previous, brute) << "configuration " << config << " with " << n << " objects";
+        for (size_t k = 1; k < brute.size(); ++k)
+            ASSERT_LT(std::get<0>(brute[k - 1]), std::get<0>(brute[k])) << "not in canonical order";
         ASSERT_EQ(enhanced, brute) << "configuration " << config << " with " << n << " objects";
         withContacts += !brute.empty();
         total += brute.size();
