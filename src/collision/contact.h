@@ -152,6 +152,7 @@ struct CollisionState {
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object
     std::vector<Aabb> partnerBounds, prefixBounds, suffixBounds;
+    std::vector<uint8_t> boxFlags; ///< per box: queried, hashed (this substep)
     /// This substep's contacts: the objects' (canonical order), then the floor's.
     std::vector<Contact> all;
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys; ///< scratch of the canonical sort

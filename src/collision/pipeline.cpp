@@ -308,33 +308,18 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         return;
     }
 
-    // Phase 2: hash the nodes of the candidate objects (all objects for `previous`).
+    // Phase 2: hash the nodes of the candidate objects (all objects for `previous`), then each
+    // box of a candidate object visits the hash cells its node bounds (grown by the largest
+    // margin any of its partners can need) overlap and tests the nodes of the other objects it
+    // forms a candidate pair with. The rule is the same in both modes; in `previous` every
+    // other object is a partner.
+    //
+    // A box whose grown bounds miss every partner's bounds can neither find a node (a node
+    // lies within its object's bounds) nor have its nodes found (a box only finds nodes within
+    // its own grown bounds): it is neither queried nor hashed, and no contact is lost.
     const bool enhanced = mode == CollisionMode::Enhanced;
     if (enhanced && s.pairs.empty()) return;
     auto isCandidate = [&](uint32_t b) { return !enhanced || s.isCandidate[b]; };
-    size_t nodeCount = 0;
-    float cell = 0;
-    for (uint32_t b = 0; b < n; ++b)
-        if (isCandidate(b)) {
-            nodeCount += size_t(w.bodies[b].boxCount) * 8;
-            cell = maxNum(cell, w.bodies[b].cellSize);
-        }
-    if (nodeCount == 0) return;
-    s.hash.begin(nodeCount, cell);
-    for (uint32_t b = 0; b < n; ++b) {
-        if (!isCandidate(b)) continue;
-        const BodyRecord& r = w.bodies[b];
-        for (uint32_t node = r.firstBox * 8; node < (r.firstBox + r.boxCount) * 8; ++node)
-            s.hash.add(node, b, w.nodes[node]); // keeps the position: no random reads later
-    }
-    s.hash.build();
-    // Each box of a candidate object visits the hash cells its node bounds (grown by the
-    // largest margin any of its partners can need) overlap and tests the nodes of the other
-    // objects it forms a candidate pair with. A box whose grown bounds miss every partner's
-    // bounds is skipped unqueried: a node lies within its object's bounds, so no contact is lost.
-    // The rule is the same in both modes; in `previous` every other object is a partner.
-    s.partnerMark.assign(n, 0);
-    s.partnerMargin.resize(n);
     // Bounds of all objects but one, for `previous`: prefix and suffix unions.
     std::vector<Aabb>& prefix = s.prefixBounds;
     std::vector<Aabb>& suffix = s.suffixBounds;
@@ -350,48 +335,86 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             suffix[a].add(w.bodies[a].bounds);
         }
     }
-    constexpr uint32_t kIndividual = 8; // partners tested one by one up to this many
-    for (uint32_t b = 0; b < n; ++b) {
-        if (!isCandidate(b)) continue;
+    s.partnerMark.assign(n, 0);
+    s.partnerMargin.resize(n);
+    constexpr uint32_t kIndividual = 8; // partners' bounds tested one by one up to this many
+    // Body b's partners: their bounds, the margin each needs against b's boxes (marked when
+    // `mark`), the largest of those (`queryReach`) and of b's nodes' margins against them
+    // (`hashReach`).
+    float queryReach = 0, hashReach = 0;
+    bool individual = true;
+    Aabb partnerUnion;
+    auto gatherPartners = [&](uint32_t b, bool mark) {
         const BodyRecord& B = w.bodies[b];
-        // Each partner's margin once per object, and the largest: the query must reach that far.
-        float reach = 0;
+        queryReach = hashReach = 0;
         s.partnerBounds.clear();
-        Aabb partnerUnion;
-        auto addPartner = [&](uint32_t a) {
-            s.partnerMark[a] = 1;
-            s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
-            reach = maxNum(reach, s.partnerMargin[a]);
-            s.partnerBounds.push_back(w.bodies[a].bounds);
+        auto add = [&](uint32_t a) {
+            const BodyRecord& A = w.bodies[a];
+            const float margin = marginOf(w, A, B);
+            if (mark) s.partnerMark[a] = 1, s.partnerMargin[a] = margin;
+            queryReach = maxNum(queryReach, margin);
+            hashReach = maxNum(hashReach, marginOf(w, B, A));
+            s.partnerBounds.push_back(A.bounds);
         };
         if (enhanced) {
-            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
-                addPartner(s.partners[k]);
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) add(s.partners[k]);
         } else {
             for (uint32_t a = 0; a < n; ++a)
-                if (a != b) addPartner(a);
+                if (a != b) add(a);
         }
-        const bool individual = s.partnerBounds.size() <= kIndividual;
+        individual = s.partnerBounds.size() <= kIndividual;
+        partnerUnion = Aabb{};
         if (!individual) {
             if (enhanced)
                 for (const Aabb& a : s.partnerBounds) partnerUnion.add(a);
             else
                 partnerUnion = prefix[b], partnerUnion.add(suffix[b + 1]);
         }
+    };
+    auto grow = [](const Aabb& a, float r) {
+        return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
+    };
+    auto nearPartners = [&](const Aabb& grown) {
+        if (!individual) return grown.overlaps(partnerUnion);
+        for (const Aabb& a : s.partnerBounds)
+            if (grown.overlaps(a)) return true;
+        return false;
+    };
+    constexpr uint8_t kQuery = 1, kHash = 2;
+    s.boxFlags.resize(w.boxBounds.size());
+    size_t nodeCount = 0;
+    float cell = 0;
+    for (uint32_t b = 0; b < n; ++b) {
+        if (!isCandidate(b)) continue;
+        const BodyRecord& B = w.bodies[b];
+        cell = maxNum(cell, B.cellSize);
+        gatherPartners(b, false);
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             const Aabb& bb = w.boxBounds[box];
-            const Aabb grown{bb.lo - Vec3{reach, reach, reach}, bb.hi + Vec3{reach, reach, reach}};
-            bool near = false;
-            if (individual) {
-                for (const Aabb& a : s.partnerBounds)
-                    if (grown.overlaps(a)) {
-                        near = true;
-                        break;
-                    }
-            } else {
-                near = grown.overlaps(partnerUnion);
-            }
-            if (!near) continue;
+            const uint8_t flags = uint8_t((nearPartners(grow(bb, queryReach)) ? kQuery : 0) |
+                                          (nearPartners(grow(bb, hashReach)) ? kHash : 0));
+            s.boxFlags[box] = flags;
+            if (flags & kHash) nodeCount += 8;
+        }
+    }
+    if (nodeCount == 0) return;
+    s.hash.begin(nodeCount, cell);
+    for (uint32_t b = 0; b < n; ++b) {
+        if (!isCandidate(b)) continue;
+        const BodyRecord& r = w.bodies[b];
+        for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
+            if (s.boxFlags[box] & kHash)
+                for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
+                    s.hash.add(node, b, w.nodes[node]); // the position too: no random reads later
+    }
+    s.hash.build();
+    for (uint32_t b = 0; b < n; ++b) {
+        if (!isCandidate(b)) continue;
+        const BodyRecord& B = w.bodies[b];
+        gatherPartners(b, true);
+        for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
+            if (!(s.boxFlags[box] & kQuery)) continue;
+            const Aabb grown = grow(w.boxBounds[box], queryReach);
             const int32_t i0 = s.hash.cell(grown.lo.x), i1 = s.hash.cell(grown.hi.x);
             const int32_t j0 = s.hash.cell(grown.lo.y), j1 = s.hash.cell(grown.hi.y);
             const int32_t k0 = s.hash.cell(grown.lo.z), k1 = s.hash.cell(grown.hi.z);

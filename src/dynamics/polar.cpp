@@ -126,37 +126,9 @@ namespace ffd::detail {
 
 namespace {
 
-typedef float F4 __attribute__((vector_size(16)));
-typedef int32_t I4 __attribute__((vector_size(16)));
-
-inline F4 splat(float v) {
-    return F4{v, v, v, v};
-}
-inline F4 select(I4 mask, F4 a, F4 b) {
-    return reinterpret_cast<F4>((reinterpret_cast<I4>(a) & mask) |
-                                (reinterpret_cast<I4>(b) & ~mask));
-}
-inline F4 sqrt4(F4 v) {
-    F4 r;
-    for (int k = 0; k < 4; ++k) r[k] = std::sqrt(v[k]);
-    return r;
-}
-inline F4 abs4(F4 v) {
-    return reinterpret_cast<F4>(reinterpret_cast<I4>(v) &
-                                I4{0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff});
-}
-inline bool any(I4 m) {
-    return (m[0] | m[1] | m[2] | m[3]) != 0;
-}
-
-struct Q4 {
-    F4 w, x, y, z;
-};
-
 // One Newton step (Mueller's step where the Hessian is not positive definite) on four lanes.
-// Lanes off in `active` keep their rotation. Returns the step angles; `large` flags lanes whose
-// step was too large for the cheap small-angle rotation (left unchanged: the caller redoes them).
-F4 newtonStep(const F4 A[9], Q4& q, I4 active, I4& large) {
+// Lanes off in `active` keep their rotation. Returns the step angles.
+F4 newtonStep(const F4 A[9], Q4& q, I4 active) {
     const F4 xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
     const F4 xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
     const F4 wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
@@ -181,38 +153,73 @@ F4 newtonStep(const F4 A[9], Q4& q, I4 active, I4& large) {
     const F4 tiny = splat(1e-6f);
     const I4 pd =
         (h00 > tiny * scale) & (a22 > tiny * scale * scale) & (det > tiny * scale * scale * scale);
-    const F4 invDet = one / select(pd, det, one);
-    const F4 invTr = one / (abs4(tr) + splat(1e-9f));
-    const F4 d0 = select(pd, (a00 * g0 + a01 * g1 + a02 * g2) * invDet, g0 * invTr);
-    const F4 d1 = select(pd, (a01 * g0 + a11 * g1 + a12 * g2) * invDet, g1 * invTr);
-    const F4 d2 = select(pd, (a02 * g0 + a12 * g1 + a22 * g2) * invDet, g2 * invTr);
+    // Newton's step H^-1 g = adj(H) g / det(H), or g / |tr M|: one division either way.
+    const F4 inv = one / select(pd, det, abs4(tr) + splat(1e-9f));
+    const F4 d0 = select(pd, a00 * g0 + a01 * g1 + a02 * g2, g0) * inv;
+    const F4 d1 = select(pd, a01 * g0 + a11 * g1 + a12 * g2, g1) * inv;
+    const F4 d2 = select(pd, a02 * g0 + a12 * g1 + a22 * g2, g2) * inv;
     // World-frame rotation vector omega = R d.
     const F4 o0 = R[0] * d0 + R[1] * d1 + R[2] * d2;
     const F4 o1 = R[3] * d0 + R[4] * d1 + R[5] * d2;
     const F4 o2 = R[6] * d0 + R[7] * d1 + R[8] * d2;
     const F4 angle = sqrt4(o0 * o0 + o1 * o1 + o2 * o2);
     const F4 h = half * angle;
-    large = active & (h >= splat(0.03f));
-    const I4 move = active & ~large & (angle > splat(1e-6f)); // also false for NaN
-    // Small-angle rotation (Taylor series, exact to float precision below 0.03 rad).
+    const I4 move = active & (angle > splat(1e-6f)); // also false for NaN
+    // The rotation by omega: q' = (cos h, sin h omega / |omega|) q, h = |omega| / 2, by the
+    // Taylor series below 0.03 rad (exact to float precision), else the library (rare: a warm
+    // start that far off, as in a hard impact).
     const F4 h2 = h * h;
-    const F4 s = half * (one - h2 * splat(1.0f / 6.0f));
-    const F4 c = one - h2 * (half - h2 * splat(1.0f / 24.0f));
+    F4 s = half * (one - h2 * splat(1.0f / 6.0f));
+    F4 c = one - h2 * (half - h2 * splat(1.0f / 24.0f));
+    const I4 large = move & (h >= splat(0.03f));
+    if (any(large))
+        for (int k = 0; k < 4; ++k)
+            if (large[k]) {
+                const float hk = 0.5f * std::fmin(angle[k], 3.14159265f);
+                s[k] = std::sin(hk) / angle[k];
+                c[k] = std::cos(hk);
+            }
     const F4 tx = o0 * s, ty = o1 * s, tz = o2 * s;
     Q4 r;
     r.w = c * q.w - tx * q.x - ty * q.y - tz * q.z;
     r.x = c * q.x + tx * q.w + ty * q.z - tz * q.y;
     r.y = c * q.y - tx * q.z + ty * q.w + tz * q.x;
     r.z = c * q.z + tx * q.y - ty * q.x + tz * q.w;
-    const F4 inv = one / sqrt4(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-    q.w = select(move, r.w * inv, q.w);
-    q.x = select(move, r.x * inv, q.x);
-    q.y = select(move, r.y * inv, q.y);
-    q.z = select(move, r.z * inv, q.z);
+    // Renormalise: q and the turn are unit to rounding, so one Newton step for 1/sqrt(n) at
+    // n = 1, (3 - n) / 2, is exact to float precision and needs no division.
+    const F4 renorm = (splat(3) - (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z)) * half;
+    q.w = select(move, r.w * renorm, q.w);
+    q.x = select(move, r.x * renorm, q.x);
+    q.y = select(move, r.y * renorm, q.y);
+    q.z = select(move, r.z * renorm, q.z);
     return select(active, angle, splat(0));
 }
 
 } // namespace
+
+void extractRotations4(const F4 A[9], Q4& q, int maxIterations) {
+    // As extractRotation: one Newton step, a second where the first moved noticeably, and the
+    // exact solution where the steps are still large (a poor warm start).
+    const I4 all{-1, -1, -1, -1};
+    const F4 angle = newtonStep(A, q, all);
+    I4 fallback = angle > splat(1e-2f);
+    if (maxIterations > 1) {
+        const I4 again = angle > splat(2e-3f);
+        if (any(again)) {
+            const F4 angle2 = newtonStep(A, q, again);
+            fallback = again & (angle2 > splat(1e-2f));
+        }
+    }
+    if (!any(fallback)) return;
+    for (int k = 0; k < 4; ++k) {
+        if (!fallback[k]) continue;
+        Mat3 m;
+        for (int e = 0; e < 9; ++e) m.m[e / 3][e % 3] = A[e][k];
+        Quat r = closestRotation(m);
+        refineRotation(m, r, 2);
+        q.w[k] = r.w, q.x[k] = r.x, q.y[k] = r.y, q.z[k] = r.z;
+    }
+}
 
 void extractRotations(const float* const a[9], Quat* rotations, size_t count, int maxIterations) {
     size_t r = 0;
@@ -224,28 +231,8 @@ void extractRotations(const float* const a[9], Quat* rotations, size_t count, in
             q.w[k] = rotations[r + size_t(k)].w, q.x[k] = rotations[r + size_t(k)].x;
             q.y[k] = rotations[r + size_t(k)].y, q.z[k] = rotations[r + size_t(k)].z;
         }
-        const I4 all{-1, -1, -1, -1};
-        I4 large;
-        F4 angle = newtonStep(A, q, all, large);
-        I4 fallback = large;
-        // A second step where the first moved noticeably (as extractRotation does).
-        const I4 again = ~large & (angle > splat(2e-3f));
-        if (maxIterations > 1 && any(again)) {
-            I4 large2;
-            const F4 angle2 = newtonStep(A, q, again, large2);
-            fallback = fallback | large2 | (again & (angle2 > splat(1e-2f)));
-        }
-        for (int k = 0; k < 4; ++k) {
-            Quat& out = rotations[r + size_t(k)];
-            if (fallback[k]) {
-                // Redo this lane on the scalar path from its warm start.
-                Mat3 m;
-                for (int e = 0; e < 9; ++e) m.m[e / 3][e % 3] = a[e][r + size_t(k)];
-                extractRotation(m, out, maxIterations);
-            } else {
-                out = {q.w[k], q.x[k], q.y[k], q.z[k]};
-            }
-        }
+        extractRotations4(A, q, maxIterations);
+        for (int k = 0; k < 4; ++k) rotations[r + size_t(k)] = {q.w[k], q.x[k], q.y[k], q.z[k]};
     }
     for (; r < count; ++r) {
         Mat3 m;

@@ -15,6 +15,7 @@
 // rotation and lose energy). closestRotation is exact and used when the warm start is poor.
 #pragma once
 
+#include "dynamics/simd4.h"
 #include "ffdaabb/math.h"
 
 namespace ffd::detail {
@@ -40,5 +41,13 @@ namespace ffd::detail {
 /// entries). Lanes that need more than the warm-started Newton steps fall back on the scalar
 /// path, so the result matches extractRotation's to rounding.
 void extractRotations(const float* const a[9], Quat* rotations, size_t count, int maxIterations);
+
+} // namespace ffd::detail
+
+namespace ffd::detail {
+
+/// extractRotation for four matrices at once (A[e] holds element e, row-major, of each lane's
+/// matrix); q holds the warm starts and receives the results.
+void extractRotations4(const F4 A[9], Q4& q, int maxIterations);
 
 } // namespace ffd::detail

@@ -8,6 +8,7 @@
 #include "dynamics/polar.h"
 #include "ffdaabb/error.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace ffd::detail {
@@ -23,10 +24,16 @@ constexpr int kFirstChannels = 24;
 constexpr int kSecondChannels = 18;
 
 // One axis of the separable (2w+1)^3 box sum over the point grid, point-major: out[g][0..C) =
-// sum of in[g + d * stride][0..C) over the window's points inside the grid. The channel loop
-// has a compile-time length, so each neighbour costs a few SIMD adds.
+// sum of in[g + d * stride][0..C) over the window's points inside the grid. The channels go
+// twelve at a time (three vector registers), so that long rows (four bodies' channels) stay
+// in registers instead of spilling.
 template <int C>
 void boxPass(const float* in, float* out, GridCoord dims, int axis, int w) {
+    auto load = [](const float* p) {
+        F4 v;
+        __builtin_memcpy(&v, p, sizeof v);
+        return v;
+    };
     const ptrdiff_t stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : ptrdiff_t(dims[0]) * dims[1]);
     const int n = dims[axis];
     size_t g = 0;
@@ -35,16 +42,25 @@ void boxPass(const float* in, float* out, GridCoord dims, int axis, int w) {
             for (int x = 0; x < dims[0]; ++x, ++g) {
                 const int c = axis == 0 ? x : (axis == 1 ? y : z);
                 const int lo = std::max(-w, -c), hi = std::min(w, n - 1 - c);
-                float acc[C];
-                const float* self = in + g * C;
-                for (int k = 0; k < C; ++k) acc[k] = self[k];
-                for (int d = lo; d <= hi; ++d) {
-                    if (d == 0) continue;
-                    const float* other = in + (ptrdiff_t(g) + d * stride) * C;
-                    for (int k = 0; k < C; ++k) acc[k] += other[k];
+                for (int k = 0; k + 12 <= C; k += 12) {
+                    const float* self = in + g * C + k;
+                    F4 a0 = load(self), a1 = load(self + 4), a2 = load(self + 8);
+                    for (int d = lo; d <= hi; ++d) {
+                        if (d == 0) continue;
+                        const float* other = in + (ptrdiff_t(g) + d * stride) * C + k;
+                        a0 += load(other), a1 += load(other + 4), a2 += load(other + 8);
+                    }
+                    float* o = out + g * C + k;
+                    __builtin_memcpy(o, &a0, sizeof a0);
+                    __builtin_memcpy(o + 4, &a1, sizeof a1);
+                    __builtin_memcpy(o + 8, &a2, sizeof a2);
                 }
-                float* o = out + g * C;
-                for (int k = 0; k < C; ++k) o[k] = acc[k];
+                for (int k = C - C % 12; k < C; ++k) { // the tail shorter than twelve, if any
+                    float acc = in[g * C + size_t(k)];
+                    for (int d = lo; d <= hi; ++d)
+                        if (d != 0) acc += in[(ptrdiff_t(g) + d * stride) * C + k];
+                    out[g * C + size_t(k)] = acc;
+                }
             }
 }
 
@@ -335,6 +351,221 @@ void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep&
         v[i] += s.goal[i] + dv;
         if (step.integratePositions) x[i] += v[i] * step.dt;
     }
+}
+
+namespace {
+
+// Rotation matrices of four quaternions (row-major elements), as toMat3.
+void toMat3x4(const Q4& q, F4 R[9]) {
+    const F4 xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+    const F4 xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+    const F4 wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    const F4 one = splat(1), two = splat(2);
+    R[0] = one - two * (yy + zz), R[1] = two * (xy - wz), R[2] = two * (xz + wy);
+    R[3] = two * (xy + wz), R[4] = one - two * (xx + zz), R[5] = two * (yz - wx);
+    R[6] = two * (xz - wy), R[7] = two * (yz + wx), R[8] = one - two * (xx + yy);
+}
+
+// addNonRigidDamping on four lanes: ioDv += fraction (v_rigid - v), with the body's rigid motion
+// (mean velocity and angular velocity about the mass centre) taken per lane. x relative to any
+// per-lane reference.
+void addNonRigidDamping4(std::span<const float> mass, double totalMass, const V4* x, const V4* v,
+                         F4 fraction, V4* ioDv, size_t n) {
+    const F4 invM = splat(float(1.0 / totalMass));
+    V4 c{}, p{};
+    for (size_t i = 0; i < n; ++i) {
+        const F4 m = splat(mass[i]);
+        c = c + x[i] * m;
+        p = p + v[i] * m;
+    }
+    c = c * invM;
+    const V4 vcm = p * invM;
+    V4 L{};
+    F4 xx{}, yy{}, zz{}, xy{}, xz{}, yz{};
+    for (size_t i = 0; i < n; ++i) {
+        const F4 m = splat(mass[i]);
+        const V4 r = x[i] - c;
+        L = L + cross(r, v[i] - vcm) * m;
+        xx += m * r.x * r.x, yy += m * r.y * r.y, zz += m * r.z * r.z;
+        xy += m * r.x * r.y, xz += m * r.x * r.z, yz += m * r.y * r.z;
+    }
+    const F4 trace = xx + yy + zz;
+    const F4 reg = splat(1e-4f) * trace + splat(1e-30f);
+    // Inverse of the inertia I = [[a, -xy, -xz], [-xy, b, -yz], [-xz, -yz, c]] by cofactors
+    // (symmetric); a lane whose determinant vanishes gets no angular velocity.
+    const F4 a = trace - xx + reg, b = trace - yy + reg, cc = trace - zz + reg;
+    const F4 c00 = b * cc - yz * yz, c01 = xy * cc + xz * yz, c02 = xy * yz + xz * b;
+    const F4 c11 = a * cc - xz * xz, c12 = a * yz + xy * xz, c22 = a * b - xy * xy;
+    const F4 det = a * c00 - xy * c01 - xz * c02;
+    const I4 ok = abs4(det) > splat(0.0f);
+    const F4 invDet = splat(1.0f) / select(ok, det, splat(1.0f));
+    const F4 zero = splat(0.0f);
+    V4 omega{select(ok, (c00 * L.x + c01 * L.y + c02 * L.z) * invDet, zero),
+             select(ok, (c01 * L.x + c11 * L.y + c12 * L.z) * invDet, zero),
+             select(ok, (c02 * L.x + c12 * L.y + c22 * L.z) * invDet, zero)};
+    for (size_t i = 0; i < n; ++i) {
+        const V4 rigid = vcm + cross(omega, x[i] - c);
+        ioDv[i] = ioDv[i] + (rigid - v[i]) * fraction;
+    }
+}
+
+// The i-th Vec3 of four arrays as one V4 (built in registers: lane-by-lane stores to memory
+// followed by a vector load would stall on store forwarding).
+inline V4 gather(const Vec3* const p[4], size_t i) {
+    const Vec3 &a = p[0][i], &b = p[1][i], &c = p[2][i], &d = p[3][i];
+    return {F4{a.x, b.x, c.x, d.x}, F4{a.y, b.y, c.y, d.y}, F4{a.z, b.z, c.z, d.z}};
+}
+// The first `count` lanes of v written to the i-th Vec3 of their arrays.
+inline void scatter(const V4& v, Vec3* const p[4], size_t i, int count) {
+    for (int l = 0; l < count; ++l) p[l][i] = {v.x[l], v.y[l], v.z[l]};
+}
+static_assert(sizeof(Quat) == 4 * sizeof(float));
+inline Q4 gather(const Quat* const p[4], size_t i) {
+    F4 r0 = load4(&p[0][i].w), r1 = load4(&p[1][i].w), r2 = load4(&p[2][i].w),
+       r3 = load4(&p[3][i].w);
+    transpose(r0, r1, r2, r3);
+    return {r0, r1, r2, r3};
+}
+inline void scatter(const Q4& q, Quat* const p[4], size_t i, int count) {
+    F4 r0 = q.w, r1 = q.x, r2 = q.y, r3 = q.z;
+    transpose(r0, r1, r2, r3);
+    const F4 rows[4] = {r0, r1, r2, r3};
+    for (int l = 0; l < count; ++l) store4(&p[l][i].w, rows[l]);
+}
+
+} // namespace
+
+void stepShapeMatching4(const ShapeMatchingModel& model, float dt, int rotationIterations,
+                        const ShapeMatchingLane* lanes, int count, ShapeMatchingScratch& s) {
+    constexpr int C = 12; // channels per point and lane: m~ x (3), m~ x x0^T (9); then R, t
+    const size_t P = model.particlePoint.size(), G = model.pointCount();
+    auto lane = [&](int l) -> const ShapeMatchingLane& { return lanes[l < count ? l : 0]; };
+    // Each lane's arrays (lanes past `count` read lane 0's and are never written).
+    const Vec3* xs[4];
+    Vec3* vs[4];
+    Quat *rs[4], *steps[4];
+    bool extrapolate = true;
+    for (int l = 0; l < 4; ++l) {
+        xs[l] = lane(l).x.data();
+        vs[l] = lane(l).v.data();
+        rs[l] = lane(l).rotations.data();
+        steps[l] = lane(l).rotationSteps.data();
+        extrapolate = extrapolate && !lane(l).rotationSteps.empty();
+    }
+    s.x4.resize(P);
+    s.dv4.resize(P);
+    // Positions relative to each body's mass centre (the scalar path's reference point).
+    V4 ref{};
+    for (size_t i = 0; i < P; ++i) {
+        const V4 x = gather(xs, i);
+        s.x4[i] = x;
+        ref = ref + x * splat(model.massFraction[i]);
+    }
+    for (size_t i = 0; i < P; ++i) s.x4[i] = s.x4[i] - ref;
+
+    // First summation.
+    s.a4.assign(G * C, F4{});
+    s.b4.resize(G * C);
+    for (size_t j = 0; j < P; ++j) {
+        F4* out = &s.a4[size_t(model.particlePoint[j]) * C];
+        const F4 m = splat(model.tildeMass[j]);
+        const V4 mx = s.x4[j] * m;
+        const Vec3 x0 = model.restCentred[j];
+        out[0] = mx.x, out[1] = mx.y, out[2] = mx.z;
+        const F4 mxi[3] = {mx.x, mx.y, mx.z};
+        for (int i = 0; i < 3; ++i) {
+            out[3 + 3 * i] = mxi[i] * splat(x0.x);
+            out[4 + 3 * i] = mxi[i] * splat(x0.y);
+            out[5 + 3 * i] = mxi[i] * splat(x0.z);
+        }
+    }
+    float* a = reinterpret_cast<float*>(s.a4.data());
+    float* b = reinterpret_cast<float*>(s.b4.data());
+    boxPass<4 * C>(a, b, model.pointDims, 0, model.halfWidth);
+    boxPass<4 * C>(b, a, model.pointDims, 1, model.halfWidth);
+    boxPass<4 * C>(a, b, model.pointDims, 2, model.halfWidth);
+
+    // Regions: rotation and translation, scattered for the second summation.
+    std::fill(s.a4.begin(), s.a4.end(), F4{});
+    for (size_t r = 0; r < P; ++r) {
+        const F4* S = &s.b4[size_t(model.particlePoint[r]) * C];
+        const float M = model.regionMass[r];
+        const F4 invM = splat(1.0f / M);
+        const F4 c[3] = {S[0] * invM, S[1] * invM, S[2] * invM};
+        const Vec3 c0 = model.regionRestCentre[r];
+        F4 A[9];
+        for (int i = 0; i < 3; ++i) {
+            const F4 Mc = splat(M) * c[i];
+            A[3 * i] = S[3 + 3 * i] - Mc * splat(c0.x);
+            A[3 * i + 1] = S[4 + 3 * i] - Mc * splat(c0.y);
+            A[3 * i + 2] = S[5 + 3 * i] - Mc * splat(c0.z);
+        }
+        const Q4 last = gather(rs, r);
+        Q4 q = extrapolate ? renormalize(gather(steps, r) * last) : last;
+        extractRotations4(A, q, rotationIterations);
+        scatter(q, rs, r, count);
+        // The step is a product of unit quaternions, normalised when next used.
+        if (extrapolate) scatter(q * conjugate(last), steps, r, count);
+        F4* out = &s.a4[size_t(model.particlePoint[r]) * C];
+        toMat3x4(q, out);
+        for (int i = 0; i < 3; ++i)
+            out[9 + i] = c[i] - (out[3 * i] * splat(c0.x) + out[3 * i + 1] * splat(c0.y) +
+                                 out[3 * i + 2] * splat(c0.z));
+    }
+    boxPass<4 * C>(a, b, model.pointDims, 0, model.halfWidth);
+    boxPass<4 * C>(b, a, model.pointDims, 1, model.halfWidth);
+    boxPass<4 * C>(a, b, model.pointDims, 2, model.halfWidth);
+
+    // Goals, and the velocity changes they ask for.
+    F4 k, fraction;
+    for (int l = 0; l < 4; ++l) {
+        k[l] = lane(l).stiffness / dt;
+        fraction[l] = lane(l).damping;
+    }
+    for (size_t i = 0; i < P; ++i) {
+        const F4* U = &s.b4[size_t(model.particlePoint[i]) * C];
+        const F4 inv = splat(1.0f / model.regionSize[i]);
+        const Vec3 x0 = model.restCentred[i];
+        const V4 goal{(U[0] * splat(x0.x) + U[1] * splat(x0.y) + U[2] * splat(x0.z) + U[9]) * inv,
+                      (U[3] * splat(x0.x) + U[4] * splat(x0.y) + U[5] * splat(x0.z) + U[10]) * inv,
+                      (U[6] * splat(x0.x) + U[7] * splat(x0.y) + U[8] * splat(x0.z) + U[11]) * inv};
+        s.dv4[i] = (goal - s.x4[i]) * k;
+    }
+    s.v4.resize(P);
+    V4* v4 = s.v4.data();
+    for (size_t i = 0; i < P; ++i) v4[i] = gather(vs, i);
+    bool damp = false;
+    for (int l = 0; l < count; ++l) damp = damp || lanes[l].damping > 0;
+    if (damp) {
+        double total = 0;
+        for (size_t i = 0; i < P; ++i) total += double(model.massFraction[i]);
+        addNonRigidDamping4(model.massFraction, total, s.x4.data(), v4, fraction, s.dv4.data(), P);
+    }
+    // Remove the momentum rounding left in the internal changes (sums in double, per lane),
+    // then apply them with the external acceleration.
+    typedef double D2 __attribute__((vector_size(16)));
+    D2 px[2] = {}, py[2] = {}, pz[2] = {};
+    double m = 0;
+    auto lo = [](F4 v) { return __builtin_convertvector(__builtin_shufflevector(v, v, 0, 1), D2); };
+    auto hi = [](F4 v) { return __builtin_convertvector(__builtin_shufflevector(v, v, 2, 3), D2); };
+    for (size_t i = 0; i < P; ++i) {
+        const double mi = double(model.massFraction[i]);
+        const D2 mm{mi, mi};
+        const V4& d = s.dv4[i];
+        px[0] += mm * lo(d.x), px[1] += mm * hi(d.x);
+        py[0] += mm * lo(d.y), py[1] += mm * hi(d.y);
+        pz[0] += mm * lo(d.z), pz[1] += mm * hi(d.z);
+        m += mi;
+    }
+    V4 mean, kick;
+    for (int l = 0; l < 4; ++l) {
+        mean.x[l] = float(px[l / 2][l % 2] / m);
+        mean.y[l] = float(py[l / 2][l % 2] / m);
+        mean.z[l] = float(pz[l / 2][l % 2] / m);
+        const Vec3 kl = lane(l).acceleration * dt;
+        kick.x[l] = kl.x, kick.y[l] = kl.y, kick.z[l] = kl.z;
+    }
+    for (size_t i = 0; i < P; ++i) scatter(v4[i] + ((s.dv4[i] - mean) + kick), vs, i, count);
 }
 
 void removeMomentumDrift(std::span<const float> mass, std::span<Vec3> ioVelocityChange) {

@@ -16,6 +16,7 @@
 // (bars along x, plates along y, cubes along z) makes the cost independent of w.
 #pragma once
 
+#include "dynamics/simd4.h"
 #include "ffdaabb/lattice.h"
 
 #include <span>
@@ -59,6 +60,10 @@ struct ShapeMatchingScratch {
     std::vector<float> region; ///< per-region values between the passes
     std::vector<float> soa;    ///< per-region matrices, one array per element
     std::vector<Vec3> goal, rigidVelocity;
+    // stepShapeMatching4: four bodies, one per lane.
+    std::vector<F4> a4, b4; ///< point grids, 12 channels of four lanes per point
+    std::vector<V4> x4, v4,
+        dv4; ///< #P positions (relative to the mass centre), velocities, changes
 };
 
 /// One substep for one body: goals from the current positions, then
@@ -68,6 +73,26 @@ struct ShapeMatchingScratch {
 void stepShapeMatching(const ShapeMatchingModel& model, const ShapeMatchingStep& step,
                        std::span<Vec3> x, std::span<Vec3> v, std::span<Quat> rotations,
                        ShapeMatchingScratch& scratch, bool naive = false);
+
+/// One body's share of a stepShapeMatching4 call.
+struct ShapeMatchingLane {
+    std::span<const Vec3> x; ///< #P positions (not changed: the caller integrates)
+    std::span<Vec3> v;       ///< #P velocities, updated
+    std::span<Quat> rotations;
+    /// Optional, #P: each region's rotation over the last substep. The next warm start
+    /// continues it (a region turning steadily then needs a single Newton step); updated.
+    std::span<Quat> rotationSteps;
+    float stiffness = 1.0f;
+    float damping = 0.0f; ///< fraction of the non-rigid velocity removed (the body's rigid motion)
+    Vec3 acceleration;
+};
+
+/// stepShapeMatching (without region damping or integration) for `count` (1..4) bodies of the
+/// same model at once, one per vector lane: every per-particle and per-region operation works on
+/// four bodies. Lanes never mix: a body's result does not depend on the others in the call or
+/// on its lane.
+void stepShapeMatching4(const ShapeMatchingModel& model, float dt, int rotationIterations,
+                        const ShapeMatchingLane* lanes, int count, ShapeMatchingScratch& scratch);
 
 /// Goal positions only (no integration), for tests: outGoals #P.
 void shapeMatchingGoals(const ShapeMatchingModel& model, std::span<const Vec3> x,

@@ -18,6 +18,7 @@ namespace ffd {
 
 using detail::BodyModel;
 using detail::BodyRecord;
+using detail::DynamicsBatch;
 using detail::WorldData;
 
 const char* toString(CollisionMode mode) {
@@ -120,6 +121,32 @@ std::shared_ptr<const BodyModel> buildModel(const TriangleMesh& mesh, const Body
     return model;
 }
 
+// Groups the shape-matching bodies of each model (without region damping) four at a time, in
+// body order; every other body is a batch of its own.
+void rebuildDynamicsBatches(WorldData& w) {
+    w.dynamicsBatches.clear();
+    std::map<const BodyModel*, size_t> open; // model -> its batch still filling
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
+        const BodyRecord& r = w.bodies[b];
+        const bool lanes =
+            r.model->dynamics == DynamicsModel::ShapeMatching && !r.settings.regionDamping;
+        if (lanes) {
+            auto it = open.find(r.model.get());
+            if (it != open.end() && w.dynamicsBatches[it->second].count < 4) {
+                DynamicsBatch& batch = w.dynamicsBatches[it->second];
+                batch.body[batch.count++] = b;
+                continue;
+            }
+            open[r.model.get()] = w.dynamicsBatches.size();
+        }
+        DynamicsBatch batch;
+        batch.body[0] = b;
+        batch.count = 1;
+        batch.lanes = lanes;
+        w.dynamicsBatches.push_back(batch);
+    }
+}
+
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -205,6 +232,7 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
         w.invMass.push_back(1.0f / (r.mass * model->massFraction[p]));
         w.particleForce.push_back({});
         w.rotations.push_back(r.settings.rotation);
+        w.rotationSteps.push_back(Quat{});
     }
     w.nodes.resize(w.nodes.size() + size_t(r.boxCount) * 8);
     w.boxBounds.resize(w.boxBounds.size() + r.boxCount);
@@ -222,6 +250,7 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     w.slots[slot].dense = uint32_t(w.bodies.size());
     w.bodies.push_back(std::move(r));
     detail::rebuildCollisionTopology(w);
+    rebuildDynamicsBatches(w);
     const BodyId id{slot, w.slots[slot].generation};
     updateMesh(id);
     return id;
@@ -241,6 +270,7 @@ bool World::removeBody(BodyId id) {
     eraseRange(w.invMass, r.firstParticle, r.particleCount);
     eraseRange(w.particleForce, r.firstParticle, r.particleCount);
     eraseRange(w.rotations, r.firstParticle, r.particleCount);
+    eraseRange(w.rotationSteps, r.firstParticle, r.particleCount);
     eraseRange(w.nodes, size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
     eraseRange(w.boxBounds, r.firstBox, r.boxCount);
     eraseRange(w.vertices, r.firstVertex, r.vertexCount);
@@ -257,6 +287,7 @@ bool World::removeBody(BodyId id) {
     w.freeSlots.push_back(id.index);
     w.collision.pairs.clear();
     detail::rebuildCollisionTopology(w);
+    rebuildDynamicsBatches(w);
     return true;
 }
 
@@ -284,10 +315,9 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
     return *r;
 }
 
-// Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
+// Runs fn(first, last, scratch) over the items [0, n), split across the worker threads.
 template <class F>
-void forEachBody(WorldData& w, F&& fn) {
-    const size_t n = w.bodies.size();
+void forEachItem(WorldData& w, size_t n, F&& fn) {
     const int threads =
         w.settings.threads == 0 ? int(tbb::info::default_concurrency()) : w.settings.threads;
     if (w.scratch.size() < size_t(std::max(threads, 1)))
@@ -296,7 +326,7 @@ void forEachBody(WorldData& w, F&& fn) {
         fn(size_t(0), n, w.scratch[0]);
         return;
     }
-    // Bodies are independent in these stages, so any split gives bit-identical results.
+    // Items are independent in these stages, so any split gives bit-identical results.
     static thread_local std::unique_ptr<tbb::task_arena> arena;
     if (!arena || arena->max_concurrency() != threads)
         arena = std::make_unique<tbb::task_arena>(threads);
@@ -309,47 +339,81 @@ void forEachBody(WorldData& w, F&& fn) {
     });
 }
 
+// Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
+template <class F>
+void forEachBody(WorldData& w, F&& fn) {
+    forEachItem(w, w.bodies.size(), std::forward<F>(fn));
+}
+
+// The external part of a body's substep: point forces through the particles' own masses, and
+// the uniform acceleration (gravity, body forces) the model applies with its internal forces.
+Vec3 externalKick(WorldData& w, BodyRecord& r, float dt) {
+    const size_t p0 = r.firstParticle;
+    for (size_t i = 0; i < r.particleCount; ++i) {
+        const Vec3 f = w.particleForce[p0 + i];
+        if (f.x != 0 || f.y != 0 || f.z != 0) w.v[p0 + i] += f * (dt * w.invMass[p0 + i]);
+    }
+    // Leapfrog start for the constant acceleration (gravity); user forces act in full.
+    const Vec3 accel = w.settings.gravity * (r.halfKick ? 0.5f : 1.0f) + r.force / r.mass;
+    r.halfKick = false;
+    return accel;
+}
+
 void dynamicsStage(WorldData& w, float dt) {
-    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch& scratch) {
-        for (size_t b = first; b < last; ++b) {
-            BodyRecord& r = w.bodies[b];
-            const size_t p0 = r.firstParticle, np = r.particleCount;
-            std::span<Vec3> x(w.x.data() + p0, np), v(w.v.data() + p0, np);
-            // Point forces act through the particles' own masses; body forces as a uniform
-            // acceleration.
-            for (size_t i = 0; i < np; ++i) {
-                const Vec3 f = w.particleForce[p0 + i];
-                if (f.x != 0 || f.y != 0 || f.z != 0) v[i] += f * (dt * w.invMass[p0 + i]);
-            }
-            // Leapfrog start for the constant acceleration (gravity); user forces act in full.
-            const Vec3 accel = w.settings.gravity * (r.halfKick ? 0.5f : 1.0f) + r.force / r.mass;
-            r.halfKick = false;
-            const float damping = 1.0f - std::exp(-r.settings.damping * dt);
-            if (r.model->dynamics == DynamicsModel::ShapeMatching) {
-                detail::ShapeMatchingStep step;
-                step.dt = dt;
-                step.stiffness = r.settings.stiffness;
-                step.damping = damping;
-                step.regionDamping = r.settings.regionDamping;
-                step.acceleration = accel;
-                step.integratePositions = false;
-                stepShapeMatching(r.model->shapeMatching, step, x, v,
-                                  std::span<Quat>(w.rotations.data() + p0, np),
-                                  scratch.shapeMatching);
-            } else {
-                detail::MassSpringStep step;
-                step.dt = dt;
-                step.youngsModulus = r.settings.youngsModulus;
-                step.damping = damping;
-                step.acceleration = accel;
-                step.iterations = r.settings.springIterations;
-                step.integratePositions = false;
-                stepMassSpring(r.model->springs, step,
-                               std::span<const float>(w.invMass.data() + p0, np), x, v,
-                               scratch.massSpring);
-            }
-        }
-    });
+    const int rotationIterations = detail::ShapeMatchingStep{}.rotationIterations;
+    forEachItem(w, w.dynamicsBatches.size(),
+                [&](size_t first, size_t last, detail::ThreadScratch& scratch) {
+                    for (size_t k = first; k < last; ++k) {
+                        const detail::DynamicsBatch& batch = w.dynamicsBatches[k];
+                        if (batch.lanes) {
+                            detail::ShapeMatchingLane lanes[4];
+                            for (uint32_t l = 0; l < batch.count; ++l) {
+                                BodyRecord& r = w.bodies[batch.body[l]];
+                                const size_t p0 = r.firstParticle, np = r.particleCount;
+                                lanes[l].acceleration = externalKick(w, r, dt);
+                                lanes[l].x = std::span<const Vec3>(w.x.data() + p0, np);
+                                lanes[l].v = std::span<Vec3>(w.v.data() + p0, np);
+                                lanes[l].rotations = std::span<Quat>(w.rotations.data() + p0, np);
+                                lanes[l].rotationSteps =
+                                    std::span<Quat>(w.rotationSteps.data() + p0, np);
+                                lanes[l].stiffness = r.settings.stiffness;
+                                lanes[l].damping = 1.0f - std::exp(-r.settings.damping * dt);
+                            }
+                            stepShapeMatching4(w.bodies[batch.body[0]].model->shapeMatching, dt,
+                                               rotationIterations, lanes, int(batch.count),
+                                               scratch.shapeMatching);
+                            continue;
+                        }
+                        BodyRecord& r = w.bodies[batch.body[0]];
+                        const size_t p0 = r.firstParticle, np = r.particleCount;
+                        std::span<Vec3> x(w.x.data() + p0, np), v(w.v.data() + p0, np);
+                        const Vec3 accel = externalKick(w, r, dt);
+                        const float damping = 1.0f - std::exp(-r.settings.damping * dt);
+                        if (r.model->dynamics == DynamicsModel::ShapeMatching) {
+                            detail::ShapeMatchingStep step;
+                            step.dt = dt;
+                            step.stiffness = r.settings.stiffness;
+                            step.damping = damping;
+                            step.regionDamping = r.settings.regionDamping;
+                            step.acceleration = accel;
+                            step.integratePositions = false;
+                            stepShapeMatching(r.model->shapeMatching, step, x, v,
+                                              std::span<Quat>(w.rotations.data() + p0, np),
+                                              scratch.shapeMatching);
+                        } else {
+                            detail::MassSpringStep step;
+                            step.dt = dt;
+                            step.youngsModulus = r.settings.youngsModulus;
+                            step.damping = damping;
+                            step.acceleration = accel;
+                            step.iterations = r.settings.springIterations;
+                            step.integratePositions = false;
+                            stepMassSpring(r.model->springs, step,
+                                           std::span<const float>(w.invMass.data() + p0, np), x, v,
+                                           scratch.massSpring);
+                        }
+                    }
+                });
 }
 
 } // namespace
@@ -562,6 +626,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
     for (uint32_t i = 0; i < r.particleCount; ++i) {
         data_->x[r.firstParticle + i] = positions[i];
         if (resetVelocity) data_->v[r.firstParticle + i] = {};
+        data_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
     }
     if (resetVelocity) data_->find(id)->halfKick = true;
     updateMesh(id);

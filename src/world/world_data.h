@@ -41,9 +41,9 @@ struct BodyRecord {
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
     Aabb bounds;        ///< of the box nodes, from the last node update
-    float maxSpeed = 0;   ///< fastest particle at the last node update, m/s
-    Vec3 meanVelocity;    ///< mass-weighted mean particle velocity at the last node update
-    float spread = 0;     ///< largest |v_i - meanVelocity| over the particles, m/s
+    float maxSpeed = 0; ///< fastest particle at the last node update, m/s
+    Vec3 meanVelocity;  ///< mass-weighted mean particle velocity at the last node update
+    float spread = 0;   ///< largest |v_i - meanVelocity| over the particles, m/s
     Vec3 sphereCentre;  ///< bounding sphere (enhanced mode)
     float sphereRadius = 0;
 };
@@ -59,6 +59,14 @@ struct ThreadScratch {
     MassSpringScratch massSpring;
 };
 
+/// A work item of the dynamics stage: up to four shape-matching bodies of one model (without
+/// region damping), stepped together one per vector lane, or a single other body.
+struct DynamicsBatch {
+    uint32_t body[4] = {};
+    uint32_t count = 0;
+    bool lanes = false; ///< stepShapeMatching4 (else the body's own model, alone)
+};
+
 struct WorldData {
     WorldSettings settings;
     std::vector<BodyRecord> bodies; ///< in insertion order
@@ -69,7 +77,8 @@ struct WorldData {
     std::vector<Vec3> x, v;
     std::vector<Vec3> particleForce; ///< external forces for the next step, N
     std::vector<float> invMass;
-    std::vector<Quat> rotations; ///< warm start of each shape-matching region
+    std::vector<Quat> rotations;     ///< warm start of each shape-matching region
+    std::vector<Quat> rotationSteps; ///< each region's rotation over the last substep
     // Flat per-box / per-node state.
     std::vector<Vec3> nodes;     ///< 8 per box
     std::vector<Aabb> boxBounds; ///< AABB of each box's 8 nodes
@@ -80,6 +89,7 @@ struct WorldData {
     Profile profile;
     uint64_t frame = 0;
 
+    std::vector<DynamicsBatch> dynamicsBatches; ///< rebuilt when bodies come and go
     CollisionState collision;
     float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
     std::vector<ThreadScratch> scratch; ///< one per worker

@@ -367,6 +367,99 @@ TEST(ShapeMatching, RigidMotionIsAFixedPoint) {
     for (size_t i = 0; i < x.size(); ++i) EXPECT_LE(length(g[i] - x[i]), 1e-5f);
 }
 
+TEST(Polar, FourLanesAgreeWithOneAtATime) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (int trial = 0; trial < 300; ++trial) {
+        detail::F4 A[9];
+        detail::Q4 q;
+        Mat3 m[4];
+        Quat warm[4];
+        for (int l = 0; l < 4; ++l) {
+            // Rotations near, far from (a poor warm start) and exactly at the warm start, of
+            // stretched, flat and zero matrices.
+            const Quat truth = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
+            const float off = (trial + l) % 3 == 0 ? 0.0f : ((trial + l) % 3 == 1 ? 0.05f : 1.5f);
+            warm[l] = normalize(truth * Quat::fromAxisAngle({u(rng), u(rng), 1}, off));
+            Vec3 d{1 + std::fabs(u(rng)), 1 + std::fabs(u(rng)), 1 + std::fabs(u(rng))};
+            if (l == 2) d.z = 0;
+            m[l] = (trial % 7 == 0 && l == 3) ? Mat3{} : toMat3(truth) * Mat3::diagonal(d);
+            for (int e = 0; e < 9; ++e) A[e][l] = m[l].m[e / 3][e % 3];
+            q.w[l] = warm[l].w, q.x[l] = warm[l].x, q.y[l] = warm[l].y, q.z[l] = warm[l].z;
+        }
+        detail::extractRotations4(A, q, 2);
+        for (int l = 0; l < 4; ++l) {
+            Quat one = warm[l];
+            detail::extractRotation(m[l], one, 2);
+            const Mat3 a = toMat3(one), b = toMat3(Quat{q.w[l], q.x[l], q.y[l], q.z[l]});
+            for (int e = 0; e < 9; ++e)
+                ASSERT_NEAR(a.m[e / 3][e % 3], b.m[e / 3][e % 3], 2e-4f) << trial << " lane " << l;
+            EXPECT_NEAR(q.w[l] * q.w[l] + q.x[l] * q.x[l] + q.y[l] * q.y[l] + q.z[l] * q.z[l], 1.0f,
+                        1e-5f);
+        }
+    }
+}
+
+TEST(ShapeMatching, FourBodiesAtOnceMatchOneAtATimeAndNeverMix) {
+    const TriangleMesh mesh = blob();
+    LatticeSettings ls;
+    ls.targetCells = 60;
+    const Lattice L = buildLattice(mesh, ls);
+    const detail::ShapeMatchingModel model = detail::buildShapeMatching(L, 1);
+    const size_t P = L.particleCount();
+    const float dt = 1.0f / 120.0f;
+    // Four differently deformed, moving bodies with different materials.
+    std::vector<Vec3> x[4], v[4];
+    std::vector<Quat> q[4];
+    detail::ShapeMatchingLane lanes[4];
+    for (int l = 0; l < 4; ++l) {
+        const test::SmoothDeformation warp(4, 1.0f, 0.1f * float(l + 1));
+        for (size_t i = 0; i < P; ++i) {
+            x[l].push_back(warp(L.restParticles[i]) + Vec3{float(l), 2, 0});
+            v[l].push_back(Vec3{0.3f * float(l), 0, 0} + cross({0, 1, 0}, L.restParticles[i]));
+        }
+        q[l].assign(P, Quat{});
+        lanes[l].x = x[l];
+        lanes[l].rotations = q[l];
+        lanes[l].stiffness = 0.4f + 0.2f * float(l);
+        lanes[l].damping = 0.05f * float(l);
+        lanes[l].acceleration = {0, -9.81f, float(l)};
+    }
+    // All four at once.
+    std::vector<Vec3> together[4];
+    std::vector<Quat> qTogether[4];
+    detail::ShapeMatchingScratch scratch;
+    for (int l = 0; l < 4; ++l) {
+        together[l] = v[l], qTogether[l] = q[l];
+        lanes[l].v = together[l], lanes[l].rotations = qTogether[l];
+    }
+    detail::stepShapeMatching4(model, dt, 2, lanes, 4, scratch);
+    for (int l = 0; l < 4; ++l) {
+        // The same body alone (in lane 0) gives bit-identical velocities and rotations: lanes
+        // never mix, so grouping bodies cannot change a simulation.
+        std::vector<Vec3> alone = v[l];
+        std::vector<Quat> qAlone = q[l];
+        detail::ShapeMatchingLane one = lanes[l];
+        one.v = alone, one.rotations = qAlone;
+        detail::stepShapeMatching4(model, dt, 2, &one, 1, scratch);
+        ASSERT_EQ(alone, together[l]) << "lane " << l;
+        ASSERT_EQ(qAlone, qTogether[l]) << "lane " << l;
+        // And the one-body path agrees to rounding.
+        std::vector<Vec3> xs = x[l], vs = v[l];
+        std::vector<Quat> qs = q[l];
+        detail::ShapeMatchingStep step;
+        step.dt = dt;
+        step.stiffness = lanes[l].stiffness;
+        step.damping = lanes[l].damping;
+        step.acceleration = lanes[l].acceleration;
+        step.integratePositions = false;
+        detail::stepShapeMatching(model, step, xs, vs, qs, scratch);
+        for (size_t i = 0; i < P; ++i)
+            ASSERT_LE(length(vs[i] - together[l][i]), 1e-4f * (1 + length(vs[i])))
+                << "lane " << l << " particle " << i;
+    }
+}
+
 TEST(MassSpring, SpringsFollowTheLatticeEdgesAndDiagonals) {
     LatticeSettings ls;
     ls.cellSize = 1.0f;
