@@ -418,10 +418,11 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             const int32_t i0 = s.hash.cell(grown.lo.x), i1 = s.hash.cell(grown.hi.x);
             const int32_t j0 = s.hash.cell(grown.lo.y), j1 = s.hash.cell(grown.hi.y);
             const int32_t k0 = s.hash.cell(grown.lo.z), k1 = s.hash.cell(grown.hi.z);
-            s.hash.forEachInRange(i0, i1, j0, j1, k0, k1, b, [&](const SpatialHash::Entry& e) {
-                if (s.partnerMark[e.owner])
-                    testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
-            });
+            s.hash.forEachInRange(
+                i0, i1, j0, j1, k0, k1, b, grown, [&](const SpatialHash::Entry& e) {
+                    if (s.partnerMark[e.owner])
+                        testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
+                });
         }
         if (enhanced)
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)

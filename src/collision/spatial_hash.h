@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace ffd::detail {
@@ -76,6 +77,17 @@ public:
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, F&& f) const {
+        forEachInRange(
+            i0, i1, j0, j1, k0, k1, skipOwner,
+            Aabb{Vec3{-INFINITY, -INFINITY, -INFINITY}, Vec3{INFINITY, INFINITY, INFINITY}},
+            std::forward<F>(f));
+    }
+
+    /// forEachInRange for the items whose position lies in `within` (closed bounds): the
+    /// position, stored with the entry, is checked before anything else is read.
+    template <class F>
+    void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
+                        uint32_t skipOwner, const Aabb& within, F&& f) const {
         constexpr int kBatch = 32;
         uint32_t hs[kBatch];
         int32_t cs[kBatch][3];
@@ -97,10 +109,15 @@ public:
                 const Bucket& b = *live[l];
                 const int32_t* c = cs[liveCell[l]];
                 const Entry* e = entries_.data() + b.start;
-                for (uint32_t q = 0; q < b.count; ++q)
+                for (uint32_t q = 0; q < b.count; ++q) {
+                    const Vec3 p = e[q].position;
+                    if (!(p.x >= within.lo.x && p.x <= within.hi.x && p.y >= within.lo.y &&
+                          p.y <= within.hi.y && p.z >= within.lo.z && p.z <= within.hi.z))
+                        continue;
                     if (e[q].owner != skipOwner && e[q].i == c[0] && e[q].j == c[1] &&
                         e[q].k == c[2])
                         f(e[q]);
+                }
             }
             n = 0;
         };
