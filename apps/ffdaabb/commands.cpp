@@ -9,6 +9,7 @@ Action gSelected;
 void registerCommands(CLI::App& app) {
     addMeshInfoCommand(app, gSelected);
     addRunCommand(app, gSelected);
+    addSoakCommand(app, gSelected);
 }
 
 int runSelected(CLI::App&) {

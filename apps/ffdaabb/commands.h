@@ -22,6 +22,7 @@ int runSelected(CLI::App& app);
 
 void addMeshInfoCommand(CLI::App& app, Action& action);
 void addRunCommand(CLI::App& app, Action& action);
+void addSoakCommand(CLI::App& app, Action& action);
 
 /// A scene with the overrides shared by run/bench/render/view applied (0, "" or -1: keep the
 /// scene's). Throws InputError naming the flag for a bad value.

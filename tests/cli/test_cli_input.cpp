@@ -1,4 +1,4 @@
-// Bad command lines for mesh-info and run: each ends with exit status 2 and one message
+// Bad command lines for mesh-info, run and soak: each ends with exit status 2 and one message
 // naming the flag (or file), the value and what was expected; outputs are never left behind by
 // a run that fails or is killed.
 #include "test_support.h"
@@ -285,4 +285,19 @@ TEST(CliInput, AKilledRunLeavesNoOutputs) {
     ::kill(pid, SIGTERM);
     EXPECT_EQ(waitExit(pid), 128 + SIGTERM);
     EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"scene.json"});
+}
+
+TEST(CliInput, SoakFlags) {
+    expectBadInput({"soak", "--scene", "spheres", "--frames", "0"}, {"--frames", "value 0"});
+    expectBadInput({"soak", "--scene", "spheres", "--check-every", "x"},
+                   {"--check-every", "\"x\""});
+    expectBadInput({"soak", "--scene", "spheres", "--floor-tolerance", "-1"},
+                   {"--floor-tolerance", "-1", "0..1"});
+    expectBadInput({"soak", "--scene", "spheres", "--depth-tolerance", "2"},
+                   {"--depth-tolerance", "0..1"});
+    expectBadInput({"soak", "--scene", "spheres", "--energy-tolerance", "nan"},
+                   {"--energy-tolerance", "nan"});
+    expectBadInput({"soak", "--scene", "spheres", "--settle-time", "-1"}, {"--settle-time"});
+    expectBadInput({"soak", "--scene", "spheres", "--threads", "-2"}, {"--threads", "-2"});
+    expectBadInput({"soak"}, {"--scene"});
 }
