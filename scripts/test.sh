@@ -1,35 +1,70 @@
 #!/usr/bin/env bash
-# The README's test command: installs what is needed, builds, and runs the whole test suite,
-# then installs the library to a temporary prefix and builds and runs the examples against it.
-# Idempotent. Usage: scripts/test.sh [--preset release|dev|asan]
+# The README's test command. Idempotent.
+#
+#   scripts/test.sh                  what CI runs (.ci/run): every stage below
+#   scripts/test.sh --preset NAME    one build and its whole suite only (release, dev or asan)
+#
+# Stages: setup (packages, models); the release build and the whole suite; the library
+# installed to a temporary prefix with the examples built and run against it; the short soak
+# (600 frames of the spheres scene, every check); the asan build (ASan + UBSan) and the whole
+# suite under it; each libFuzzer target for FUZZ_SECONDS (default 60) seconds.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-preset=release
+preset=""
 while [ $# -gt 0 ]; do
   case "$1" in
-    --preset) preset=$2; shift 2 ;;
+    --preset)
+      [ $# -ge 2 ] || { echo "usage: scripts/test.sh [--preset release|dev|asan]" >&2; exit 2; }
+      preset=$2; shift 2 ;;
     *) echo "usage: scripts/test.sh [--preset release|dev|asan]" >&2; exit 2 ;;
   esac
 done
+case "$preset" in
+  "" | release | dev | asan) ;;
+  *) echo "test.sh: unknown preset '$preset' (expected release, dev or asan)" >&2; exit 2 ;;
+esac
 jobs=$(nproc)
+start=$(date +%s)
+stage() { echo "test.sh: [$(($(date +%s) - start)) s] $*"; }
 
-scripts/setup.sh
-cmake --preset "$preset" >/dev/null
-cmake --build --preset "$preset" -j "$jobs"
-ctest --preset "$preset" -j "$jobs" --timeout 900
+suite() { # build and run the whole suite of one preset
+  stage "$1 build"
+  cmake --preset "$1" >/dev/null
+  cmake --build --preset "$1" -j "$jobs"
+  stage "$1 suite"
+  ctest --preset "$1" -j "$jobs" --timeout 900
+}
 
-if [ "$preset" != asan ]; then
-  # The installed package, as a user meets it: find_package(ffdaabb) from examples/.
+examples() { # the installed package, as a user meets it: find_package(ffdaabb) from examples/
+  stage "examples against the installed package ($1)"
   prefix=$(mktemp -d)
   trap 'rm -rf "$prefix"' EXIT
-  cmake --install "build/$preset" --prefix "$prefix" >/dev/null
+  cmake --install "build/$1" --prefix "$prefix" >/dev/null
   cmake -S examples -B "$prefix/examples-build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build "$prefix/examples-build" -j "$jobs" >/dev/null
   "$prefix/examples-build/hello_world" >/dev/null
   "$prefix/examples-build/drop_three"
-  "build/$preset/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
+  "build/$1/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
   echo "examples: built against the installed package and ran"
+}
+
+stage setup
+scripts/setup.sh
+
+if [ -n "$preset" ]; then
+  suite "$preset"
+  [ "$preset" = asan ] || examples "$preset"
+  stage "all tests passed ($preset)"
+  exit 0
 fi
-echo "test.sh: all tests passed ($preset)"
+
+suite release
+examples release
+stage "short soak"
+build/release/bin/ffdaabb soak --scene spheres --frames 600
+suite asan
+stage "fuzzing, ${FUZZ_SECONDS:-60} s per target"
+scripts/fuzz.sh "${FUZZ_SECONDS:-60}"
+stage "all stages passed: release and asan suites, examples, soak, fuzzing"

@@ -1,6 +1,7 @@
 // ffdaabb mesh-info: mesh and lattice statistics of a file or a generated object, with the
 // paper's Table 2 beside ours for the paper's objects.
 #include "commands.h"
+#include "flags.h"
 
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
@@ -18,10 +19,27 @@ namespace {
 struct MeshInfoOptions {
     std::string file;
     std::string generate;
-    int cells = 0;
-    float cellSize = 0;
+    std::string cellsText, cellSizeText;
+    CLI::Option *cellsOption = nullptr, *cellSizeOption = nullptr;
+    int cells = 0;      ///< from cellsText when given
+    float cellSize = 0; ///< from cellSizeText when given
     bool json = false;
 };
+
+// A lattice setting the user gave that the lattice refuses for this mesh (a cell size too small
+// for its extent) is reported against the flag, not the library's field.
+Lattice buildLatticeFor(const TriangleMesh& mesh, const LatticeSettings& settings,
+                        const MeshInfoOptions& o, LatticeStats* stats) {
+    try {
+        return buildLattice(mesh, settings, stats);
+    } catch (const InputError& e) {
+        if (e.source().rfind("lattice.", 0) != 0) throw;
+        const std::string flag = given(o.cellSizeOption) ? "--cell-size"
+                                 : given(o.cellsOption)  ? "--cells"
+                                                         : e.source();
+        throw InputError(flag, e.problem() + " (for " + mesh.name + ")");
+    }
+}
 
 struct ObjectStats {
     std::string name;
@@ -54,7 +72,7 @@ ObjectStats analyse(TriangleMesh mesh, const MeshInfoOptions& o, int defaultCell
         ls.targetCells = o.cells > 0 ? o.cells : defaultCells;
     LatticeStats stats;
     const auto t = Clock::now();
-    const Lattice L = buildLattice(mesh, ls, &stats);
+    const Lattice L = buildLatticeFor(mesh, ls, o, &stats);
     s.buildMs = msSince(t);
     s.cells = L.cellCount();
     s.surfaceCells = L.surfaceCellCount();
@@ -80,15 +98,32 @@ nlohmann::json toJson(const ObjectStats& s) {
             {"generate_ms", s.generateMs}};
 }
 
-int run(const MeshInfoOptions& o) {
+// The generated mesh; a bad name or parameter is reported against --generate.
+TriangleMesh generateFor(const std::string& spec) {
+    try {
+        return generate(spec);
+    } catch (const InputError& e) {
+        // A missing model or font file is about the file, not the flag: keep its message.
+        if (e.source().find('/') != std::string::npos) throw;
+        // An unknown name (the error is about the spec itself) also gets mesh-info's alphabet.
+        throw InputError("--generate", "\"" + spec + "\": " + e.problem() +
+                                           (e.source() == spec ? " (or alphabet)" : ""));
+    }
+}
+
+int run(MeshInfoOptions o) {
     const bool hasFile = !o.file.empty(), hasGenerator = !o.generate.empty();
     if (hasFile == hasGenerator)
-        throw InputError("mesh-info", "give either a mesh FILE or --generate NAME (not both)");
-    if (o.cells < 0)
-        throw InputError("--cells", "must be positive, got " + std::to_string(o.cells));
-    if (!(o.cellSize >= 0))
-        throw InputError("--cell-size",
-                         "must be a positive number, got " + fmt::format("{}", o.cellSize));
+        throw InputError("mesh-info", hasFile
+                                          ? "give either a mesh FILE or --generate NAME, not both"
+                                          : "give a mesh FILE or --generate NAME");
+    if (given(o.cellsOption) && given(o.cellSizeOption))
+        throw InputError("--cell-size", "give either --cells or --cell-size, not both (--cells " +
+                                            o.cellsText + ", --cell-size " + o.cellSizeText + ")");
+    if (given(o.cellsOption)) o.cells = int(parseInteger("--cells", o.cellsText, 1, 1000000));
+    if (given(o.cellSizeOption))
+        o.cellSize = float(parseNumber("--cell-size", o.cellSizeText, 1e-30, 1e30,
+                                       "a cell size in mesh units, 1e-30..1e30"));
 
     std::vector<ObjectStats> objects;
     const PaperObjectFigures* paper = nullptr;
@@ -101,13 +136,13 @@ int run(const MeshInfoOptions& o) {
         paper = &kPaperLetter;
         for (char c = 'A'; c <= 'Z'; ++c) {
             const auto t = Clock::now();
-            TriangleMesh mesh = generate(std::string("letter:") + c);
+            TriangleMesh mesh = generateFor(std::string("letter:") + c);
             objects.push_back(analyse(std::move(mesh), o, paper->cells, msSince(t), false));
         }
     } else {
         paper = paperFigures(o.generate);
         const auto t = Clock::now();
-        TriangleMesh mesh = generate(o.generate);
+        TriangleMesh mesh = generateFor(o.generate);
         objects.push_back(
             analyse(std::move(mesh), o, paper ? paper->cells : 64, msSince(t), false));
     }
@@ -198,9 +233,11 @@ void addMeshInfoCommand(CLI::App& app, Action& action) {
     cmd->add_option("file", options->file, "Mesh file (.obj, .ply, .ply.gz, .stl, .off)");
     cmd->add_option("--generate", options->generate,
                     std::string("Generated object: ") + generatorNames() + ", alphabet");
-    cmd->add_option("--cells", options->cells,
-                    "Target lattice cell count (default: the paper's for its objects, else 64)");
-    cmd->add_option("--cell-size", options->cellSize, "Lattice cell size in mesh units");
+    options->cellsOption = cmd->add_option(
+        "--cells", options->cellsText,
+        "Target lattice cell count, 1..1000000 (default: the paper's for its objects, else 64)");
+    options->cellSizeOption = cmd->add_option("--cell-size", options->cellSizeText,
+                                              "Lattice cell size in mesh units (not with --cells)");
     cmd->add_flag("--json", options->json, "Print one JSON object");
     cmd->footer("For the paper's objects (sphere, teapot, letter:X, alphabet, dragon) the "
                 "paper's Table 2 figures are printed beside ours.");

@@ -1,40 +1,27 @@
 // ffdaabb run: one scene for N frames, with stats, mesh export, a progress bar and a summary.
 #include "commands.h"
+#include "flags.h"
 #include "runner.h"
 
 #include "ffdaabb/error.h"
+#include "util/atomic_file.h"
 
 #include <fmt/core.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <optional>
 
 namespace ffd::cli {
 
 namespace {
 
 struct RunCommandOptions {
-    std::string scene;
-    int objects = 0;
-    int frames = 300;
-    int warmup = 0;
-    std::string mode;
-    int threads = -1;
-    long long seed = -1;
+    SceneFlags scene;
+    std::string frames = "300", warmup = "0";
     std::string stats, exportObj;
     bool quiet = false;
 };
-
-// Fails before any work when an output file could not be written at the end.
-void checkOutputPath(const std::string& flag, const std::string& path) {
-    if (path.empty()) return;
-    const std::filesystem::path p(path);
-    if (std::filesystem::is_directory(p))
-        throw InputError(flag, "\"" + path + "\" is a folder (expected a file name)");
-    const std::filesystem::path parent = p.has_parent_path() ? p.parent_path() : ".";
-    if (!std::filesystem::is_directory(parent))
-        throw InputError(flag, "cannot write \"" + path + "\": the folder " + parent.string() +
-                                   " does not exist");
-}
 
 } // namespace
 
@@ -68,22 +55,40 @@ Scene sceneFromOptions(const std::string& name, int objects, const std::string& 
 namespace {
 
 int run(const RunCommandOptions& o) {
-    if (o.frames < 1 || o.frames > 10000000)
-        throw InputError("--frames", "value " + std::to_string(o.frames) +
-                                         " is out of range (expected 1..10000000)");
-    if (o.warmup < 0) throw InputError("--warmup", "must be >= 0, got " + std::to_string(o.warmup));
+    const int frames = int(parseInteger("--frames", o.frames, 1, 10000000));
+    const int warmup = int(parseInteger("--warmup", o.warmup, 0, 10000000));
     checkOutputPath("--stats", o.stats);
     checkOutputPath("--export-obj", o.exportObj);
-    const Scene scene = sceneFromOptions(o.scene, o.objects, o.mode, o.threads, o.seed);
+    checkDistinctOutputs("--stats", o.stats, "--export-obj", o.exportObj);
+    const Scene scene = sceneFromFlags(o.scene);
 
     RunOptions ro;
-    ro.frames = o.frames;
-    ro.warmup = o.warmup;
+    ro.frames = frames;
+    ro.warmup = warmup;
     if (!o.quiet) ro.progress = progressBar(scene.name);
+    // Both outputs go to temporary files that are renamed into place together at the end: a
+    // run that fails, or an output that cannot be written, leaves neither behind.
+    std::optional<AtomicFile> objFile, statsFile;
     const RunResult r = runScene(scene, ro, [&](const SceneBuild& build) {
-        if (!o.exportObj.empty()) exportObj(build, o.exportObj);
+        if (o.exportObj.empty()) return;
+        objFile.emplace(o.exportObj);
+        writeObj(build, objFile->handle());
     });
-    if (!o.stats.empty()) writeTextFile(o.stats, statsJson(r).dump(2) + "\n");
+    if (!o.stats.empty()) {
+        statsFile.emplace(o.stats);
+        const std::string text = statsJson(r).dump(2) + "\n";
+        std::fwrite(text.data(), 1, text.size(), statsFile->handle());
+    }
+    if (objFile) objFile->commit();
+    if (statsFile) {
+        try {
+            statsFile->commit();
+        } catch (const InputError&) {
+            std::error_code ec;
+            if (objFile) std::filesystem::remove(o.exportObj, ec);
+            throw;
+        }
+    }
     if (o.quiet) return r.finite ? 0 : 1;
 
     fmt::print("scene {} ({} objects, {} mode, {} thread{}, seed {})\n", r.scene, r.objects, r.mode,
@@ -116,16 +121,11 @@ void addRunCommand(CLI::App& app, Action& action) {
     auto o = std::make_shared<RunCommandOptions>();
     CLI::App* cmd =
         app.add_subcommand("run", "Run a scene for N frames and report timings and stats");
-    cmd->add_option("--scene", o->scene,
-                    "Scene name (alphabets, spheres, teapots, buddhas) or a .json file")
-        ->required();
-    cmd->add_option("--objects", o->objects, "Total number of objects (default: the scene's)");
-    cmd->add_option("--frames", o->frames, "Frames to simulate and time (default 300)");
-    cmd->add_option("--warmup", o->warmup, "Frames to simulate before timing starts (default 0)");
-    cmd->add_option("--mode", o->mode, "Collision mode: enhanced, previous, brute or none");
-    cmd->add_option("--threads", o->threads,
-                    "Worker threads (0 = all cores; default: the scene's)");
-    cmd->add_option("--seed", o->seed, "Layout seed (default: the scene's)");
+    addSceneFlags(cmd, o->scene);
+    cmd->add_option("--frames", o->frames,
+                    "Frames to simulate and time, 1..10000000 (default 300)");
+    cmd->add_option("--warmup", o->warmup,
+                    "Frames to simulate before timing starts, 0..10000000 (default 0)");
     cmd->add_option("--stats", o->stats, "Write the run's statistics as JSON to this file");
     cmd->add_option("--export-obj", o->exportObj,
                     "Write the final deformed meshes to this OBJ file");

@@ -11,6 +11,7 @@ void registerCommands(CLI::App& app) {
     addRunCommand(app, gSelected);
     addBenchCommand(app, gSelected);
     addRenderCommands(app, gSelected);
+    addSoakCommand(app, gSelected);
 }
 
 int runSelected(CLI::App&) {

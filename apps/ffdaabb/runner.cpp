@@ -144,7 +144,11 @@ std::function<void(int, int)> progressBar(const std::string& label) {
 
 void exportObj(const SceneBuild& build, const std::string& path) {
     AtomicFile file(path);
-    std::FILE* f = file.handle();
+    writeObj(build, file.handle());
+    file.commit();
+}
+
+void writeObj(const SceneBuild& build, std::FILE* f) {
     std::fprintf(f, "# ffdaabb: %zu bodies, final deformed meshes\n", build.bodies.size());
     size_t base = 1;
     for (size_t i = 0; i < build.bodies.size(); ++i) {
@@ -157,7 +161,6 @@ void exportObj(const SceneBuild& build, const std::string& path) {
             std::fprintf(f, "f %zu %zu %zu\n", t[0] + base, t[1] + base, t[2] + base);
         base += vertices.size();
     }
-    file.commit();
 }
 
 } // namespace ffd::cli

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -53,5 +54,8 @@ std::function<void(int, int)> progressBar(const std::string& label);
 
 /// Writes every body's final deformed mesh into one OBJ, one `o body_<i>` group per body.
 void exportObj(const SceneBuild& build, const std::string& path);
+
+/// The OBJ text of exportObj, to an open file.
+void writeObj(const SceneBuild& build, std::FILE* file);
 
 } // namespace ffd::cli

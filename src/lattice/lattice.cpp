@@ -230,6 +230,7 @@ Embedding embedPoint(const Lattice& lattice, Vec3 p) {
         // Outside every occupied cell (only for points off the mesh): the nearest cell by
         // distance to its box, lowest index on ties.
         float bestDistance = std::numeric_limits<float>::max();
+        cell = 0; // when every distance overflows (coordinates near 1e38)
         for (uint32_t i = 0; i < lattice.cells.size(); ++i) {
             const Vec3 lo = lattice.cellMin(i);
             const Vec3 q = max(lo, min(p, lo + Vec3{h, h, h}));
@@ -266,6 +267,14 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
                 L.cellIsSurface.push_back(s == kSurface);
                 (s == kSurface ? stats.surfaceCells : stats.interiorCells)++;
             }
+
+    // Coordinates so large that single-precision products overflow (1e38) can leave every
+    // triangle-box test undecided: a lattice without cells embeds nothing.
+    if (L.cells.empty())
+        throw InputError(mesh.name.empty() ? "mesh" : mesh.name,
+                         "the mesh occupies no lattice cell: its extent of " +
+                             describe(maxComponent(bounds(mesh).extent())) +
+                             " is beyond what single precision can voxelise");
 
     // Particles: the corners of occupied cells, numbered in grid-point order.
     const int qx = g.dims[0] + 1, qy = g.dims[1] + 1, qz = g.dims[2] + 1;

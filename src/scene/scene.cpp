@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +21,18 @@ namespace ffd {
 namespace {
 
 using Json = nlohmann::json;
+
+// Scene files are at most four levels deep (objects[i].material.field); anything much deeper
+// is garbage, and nlohmann's dump(), which quotes values in messages, recurses once per level.
+constexpr int kMaxJsonDepth = 64;
+// Scene files are a few hundred bytes; a file beyond this is not a scene.
+constexpr uintmax_t kMaxSceneBytes = uintmax_t(16) << 20;
+// Objects in a scene in all: the CLI's --objects limit.
+constexpr long long kMaxSceneObjects = 100000;
+// Mesh vertices in a scene in all (2^27, 1.5 GiB of deformed positions): every body keeps its
+// own deformed copy of its mesh, and the world addresses them with 32-bit offsets. Checked
+// before any body is made, so that an absurd scene fails at once rather than out of memory.
+constexpr size_t kMaxSceneVertices = size_t(1) << 27;
 
 std::string shortValue(const Json& v) {
     std::string s = v.dump();
@@ -140,7 +154,12 @@ public:
             if (!known_.count(it.key())) {
                 std::string list;
                 for (const std::string& k : known_) list += (list.empty() ? "" : ", ") + k;
-                fail(at(it.key().c_str()), "unknown field (expected one of: " + list + ")");
+                // The name is the file's: shown cut short and without control characters.
+                std::string name = it.key().substr(0, 40);
+                for (char& c : name)
+                    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+                if (it.key().size() > 40) name += "...";
+                fail(at(name.c_str()), "unknown field (expected one of: " + list + ")");
             }
     }
 
@@ -208,6 +227,31 @@ void readMaterial(Fields f, BodySettings& b) {
     f.finish();
 }
 
+// Why `spec` is not a generator a scene can use ("" when it is). Checked here, where the field
+// is known, rather than when the scene is built; the ranges are those of icosphere() and
+// teapot(), which check them again.
+std::string generatorProblem(const std::string& spec) {
+    const auto suffix = [&](std::string_view prefix, int lo, int hi) -> std::string {
+        const std::string_view digits = std::string_view(spec).substr(prefix.size());
+        int n = 0;
+        const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), n);
+        if (digits.empty() || ec != std::errc() || end != digits.data() + digits.size() || n < lo ||
+            n > hi)
+            return "\"" + spec + "\" is out of range (expected " + std::string(prefix) +
+                   std::to_string(lo) + ".." + std::string(prefix) + std::to_string(hi) + ")";
+        return "";
+    };
+    if (spec == "sphere" || spec == "teapot" || spec == "dragon") return "";
+    if (spec.rfind("icosphere:", 0) == 0) return suffix("icosphere:", 0, 8);
+    if (spec.rfind("teapot:", 0) == 0) return suffix("teapot:", 1, 256);
+    if (spec.rfind("letter:", 0) == 0) {
+        if (spec.size() == 8 && spec[7] >= 'A' && spec[7] <= 'Z') return "";
+        return "\"" + spec + "\" is not a letter generator (expected letter:A..letter:Z)";
+    }
+    return "unknown generator \"" + spec + "\" (expected letters, " + generatorNames() +
+           ", or {\"file\": \"path\"})";
+}
+
 SceneObject readObject(Fields f, const std::filesystem::path& file) {
     SceneObject o;
     const Json* mesh = f.find("mesh");
@@ -215,14 +259,8 @@ SceneObject readObject(Fields f, const std::filesystem::path& file) {
     if (mesh->is_string()) {
         o.mesh = mesh->get<std::string>();
         if (o.mesh != "letters") {
-            try {
-                if (!paperFigures(o.mesh) && o.mesh.rfind("icosphere:", 0) != 0 &&
-                    o.mesh.rfind("teapot:", 0) != 0)
-                    throw InputError(o.mesh, "unknown");
-            } catch (const InputError&) {
-                f.fail(f.at("mesh"), "unknown generator \"" + o.mesh + "\" (expected letters, " +
-                                         generatorNames() + ", or {\"file\": \"path\"})");
-            }
+            const std::string problem = generatorProblem(o.mesh);
+            if (!problem.empty()) f.fail(f.at("mesh"), problem);
         }
     } else if (mesh->is_object()) {
         Fields m(*mesh, f.at("mesh"), file);
@@ -231,8 +269,11 @@ SceneObject readObject(Fields f, const std::filesystem::path& file) {
         m.finish();
         std::filesystem::path p(path);
         if (p.is_relative() && !file.empty()) p = file.parent_path() / p;
+        if (path.empty()) m.fail(m.at("file"), "empty (expected a mesh file path)");
         if (!std::filesystem::exists(p))
             m.fail(m.at("file"), "\"" + path + "\" does not exist (looked for " + p.string() + ")");
+        if (std::filesystem::is_directory(p))
+            m.fail(m.at("file"), "\"" + path + "\" is a folder (expected a mesh file)");
         o.mesh.clear();
         o.meshFile = p;
     } else {
@@ -318,8 +359,15 @@ int Scene::objectCount() const {
 Scene parseScene(const std::string& text, const std::filesystem::path& file) {
     Json j;
     try {
-        j = Json::parse(text);
-    } catch (const Json::parse_error& e) {
+        j = Json::parse(text, [&](int depth, Json::parse_event_t, Json&) {
+            if (depth > kMaxJsonDepth)
+                throw InputError(file.string(), "not a scene: values nested more than " +
+                                                    std::to_string(kMaxJsonDepth) +
+                                                    " levels deep (a scene file has at most 4)");
+            return true;
+        });
+    } catch (const Json::exception& e) {
+        // parse_error, and out_of_range for numbers beyond double's range (1e999).
         throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
     }
     Scene scene;
@@ -333,9 +381,16 @@ Scene parseScene(const std::string& text, const std::filesystem::path& file) {
     if (!objects) f.fail("objects", "missing (expected an array of objects)");
     if (!objects->is_array() || objects->empty())
         f.fail("objects", "expected a non-empty array of objects, got " + shortValue(*objects));
-    for (size_t i = 0; i < objects->size(); ++i)
+    long long total = 0;
+    for (size_t i = 0; i < objects->size(); ++i) {
         scene.objects.push_back(
             readObject(Fields((*objects)[i], "objects[" + std::to_string(i) + "]", file), file));
+        total += scene.objects.back().count;
+        if (total > kMaxSceneObjects)
+            f.fail("objects[" + std::to_string(i) + "].count",
+                   "the scene would hold " + std::to_string(total) + " objects (expected at most " +
+                       std::to_string(kMaxSceneObjects) + " in all)");
+    }
     if (const Json* l = f.find("layout")) readLayout(Fields(*l, "layout", file), scene.layout);
     f.finish();
     validate(scene.world);
@@ -363,8 +418,18 @@ Scene loadScene(const std::string& nameOrPath) {
     }
     if (!std::filesystem::exists(path))
         throw InputError(path.string(), "does not exist (expected a scene .json file)");
+    if (std::filesystem::is_directory(path))
+        throw InputError(path.string(), "is a folder (expected a scene .json file)");
     if (!std::filesystem::is_regular_file(path))
         throw InputError(path.string(), "is not a regular file (expected a scene .json file)");
+    std::error_code ec;
+    const uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(path.string(), "cannot be read: " + ec.message());
+    if (bytes == 0) throw InputError(path.string(), "is empty (expected a scene .json file)");
+    if (bytes > kMaxSceneBytes)
+        throw InputError(path.string(), "is " + std::to_string(bytes) +
+                                            " bytes, more than the limit of 16 MiB for a scene "
+                                            "file (expected a scene .json file)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path.string(), "cannot be read");
     std::stringstream ss;
@@ -387,13 +452,16 @@ void setObjectCount(Scene& scene, int count) {
     if (count < 1)
         throw InputError("--objects", "must be at least 1, got " + std::to_string(count));
     const int total = scene.objectCount();
+    const int entries = int(scene.objects.size());
     int assigned = 0;
-    for (size_t i = 0; i < scene.objects.size(); ++i) {
-        SceneObject& o = scene.objects[i];
-        const int share = i + 1 == scene.objects.size()
-                              ? count - assigned
-                              : int(std::lround(double(o.count) * count / total));
-        o.count = std::max(1, share);
+    for (int i = 0; i < entries; ++i) {
+        SceneObject& o = scene.objects[size_t(i)];
+        const int share =
+            i + 1 == entries ? count - assigned : int(std::lround(double(o.count) * count / total));
+        // Every entry keeps at least one object, and rounding up must not take the ones the
+        // later entries need: the total is `count` (or the number of entries, if larger).
+        const int mostLeft = count - assigned - (entries - i - 1);
+        o.count = std::clamp(share, 1, std::max(1, mostLeft));
         assigned += o.count;
     }
 }
@@ -430,13 +498,37 @@ SceneBuild buildScene(const Scene& scene) {
         return it->second;
     };
 
+    // Errors from a mesh file, a generator or the lattice name the object they come from.
+    const auto objectError = [&](size_t object, const std::string& problem) {
+        return InputError(scene.source.string(),
+                          "objects[" + std::to_string(object) + "]: " + problem);
+    };
+    // Every mesh first (each distinct one is made once), to bound the total before building.
+    size_t totalVertices = 0;
+    for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+        const SceneObject& o = scene.objects[oi];
+        for (int i = 0; i < o.count; ++i) {
+            try {
+                totalVertices += meshFor(o, i).vertexCount();
+            } catch (const InputError& e) {
+                throw objectError(oi, e.what());
+            }
+            if (totalVertices > kMaxSceneVertices)
+                throw objectError(oi, "the scene would hold more than " +
+                                          std::to_string(kMaxSceneVertices) +
+                                          " mesh vertices in all (expected fewer or smaller "
+                                          "objects)");
+        }
+    }
+
     const SceneLayout& L = scene.layout;
     Random rng{uint64_t(L.seed) * 0x2545F4914F6CDD1Dull + 1};
     const int perLayer = L.columns[0] * L.columns[1];
     int slot = 0;
-    for (const SceneObject& o : scene.objects)
+    for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+        const SceneObject& o = scene.objects[oi];
         for (int i = 0; i < o.count; ++i, ++slot) {
-            const TriangleMesh& mesh = meshFor(o, i);
+            const TriangleMesh& mesh = meshFor(o, i); // made above: cannot fail now
             const int layer = slot / perLayer, r = slot % perLayer;
             const int ix = r % L.columns[0], iz = r / L.columns[0];
             BodySettings s = o.body;
@@ -450,7 +542,12 @@ SceneBuild buildScene(const Scene& scene) {
             s.velocity =
                 L.velocity +
                 Vec3{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)} * L.velocityJitter;
-            const BodyId id = out.world.addBody(mesh, s);
+            BodyId id;
+            try {
+                id = out.world.addBody(mesh, s);
+            } catch (const InputError& e) {
+                throw objectError(oi, e.what());
+            }
             out.bodies.push_back(id);
             const BodyInfo info = out.world.info(id);
             out.vertices += info.vertices;
@@ -459,6 +556,7 @@ SceneBuild buildScene(const Scene& scene) {
             out.particles += info.particles;
             out.nodes += info.surfaceCells * 8;
         }
+    }
     out.buildMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return out;

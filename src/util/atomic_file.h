@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <system_error>
 #include <unistd.h>
 
 namespace ffd {
@@ -22,6 +23,13 @@ public:
             !std::filesystem::is_directory(path_.parent_path()))
             throw InputError(path_.string(), "cannot write: the folder " +
                                                  path_.parent_path().string() + " does not exist");
+        // The finished file is renamed into place, which would replace a folder's entry or a
+        // device such as /dev/null itself.
+        std::error_code ec;
+        const auto status = std::filesystem::status(path_, ec);
+        if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+            throw InputError(path_.string(), "cannot write: it exists and is not a regular file "
+                                             "(a folder, device, pipe or socket)");
         file_ = std::fopen(temp_.c_str(), mode);
         if (!file_)
             throw InputError(path_.string(),

@@ -1,0 +1,63 @@
+// ffdaabb soak: the short soak CI runs (600 frames of the spheres scene with every check), and
+// that a violated check ends with exit status 1 and a message saying which check and when.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+using namespace ffd::test;
+
+namespace {
+
+// Two spheres one above the other, `spacing` metres apart (centre to centre), in `mode`.
+std::string pairScene(const std::string& mode, float spacing, float originY) {
+    return R"({"name": "pair", "world": {"mode": ")" + mode +
+           R"("}, "objects": [{"mesh": "sphere", "count": 2, "size": 1.0, "lattice": {"cells": 38}}],
+        "layout": {"origin": [0, )" +
+           std::to_string(originY) + R"(, 0], "columns": [1, 1], "spacing": )" +
+           std::to_string(spacing) + R"(, "jitter": 0, "random_rotation": false}})";
+}
+
+} // namespace
+
+TEST(CliSoak, ShortSpheresSoakHolds) {
+    // What CI runs; `ffdaabb soak --scene spheres --frames 20000` is the full soak.
+    const RunResult r = runCli({"soak", "--scene", "spheres", "--frames", "600"});
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("600 frames"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("every check held"), std::string::npos) << r.out;
+}
+
+TEST(CliSoak, InterpenetrationIsReportedWithItsFrame) {
+    // Without collisions the upper sphere falls into the lower one.
+    TempDir dir;
+    writeFile(dir / "pair.json", pairScene("none", 1.2f, 0.6f));
+    const RunResult r = runCli({"soak", "--scene", (dir / "pair.json").string(), "--frames", "120",
+                                "--check-every", "1", "--quiet"});
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("FAILED"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("inside other objects at frame"), std::string::npos) << r.err;
+}
+
+TEST(CliSoak, FloorIsReportedWithItsFrame) {
+    // Created below the floor: the floor check fails at the start.
+    TempDir dir;
+    writeFile(dir / "sunk.json", pairScene("enhanced", 1.2f, -0.6f));
+    const RunResult r =
+        runCli({"soak", "--scene", (dir / "sunk.json").string(), "--frames", "10", "--quiet"});
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("below the floor at frame 0"), std::string::npos) << r.err;
+}
+
+TEST(CliSoak, EnergyGainIsReportedWithItsFrame) {
+    // Created overlapping by half their size, the spheres are pushed apart: the upper one is
+    // lifted, which no system without a motor does by itself. The depth check is relaxed so
+    // that the energy check is the one that fails.
+    TempDir dir;
+    writeFile(dir / "overlap.json", pairScene("enhanced", 0.5f, 0.6f));
+    const RunResult r =
+        runCli({"soak", "--scene", (dir / "overlap.json").string(), "--frames", "120",
+                "--depth-tolerance", "1", "--energy-tolerance", "0.01", "--quiet"});
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("energy grew"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("at frame"), std::string::npos) << r.err;
+}
