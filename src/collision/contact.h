@@ -119,19 +119,27 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
                      int iterations, std::vector<uint32_t>& impactScratch);
 
+/// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
+/// each body's reach (how far the first sweep moved it), and the contacts the later sweeps
+/// visit. bodyCount: the dense body indices are below it.
+struct SolverScratch {
+    std::vector<float> slack, bodyReach;
+    std::vector<uint32_t> active;
+};
+
 /// Steps 0 and 2: Gauss-Seidel position projection; velocities follow the corrections unless
 /// `v` is empty (pre-stabilisation).
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations,
-                           std::vector<uint32_t>& activeScratch);
+                           size_t bodyCount, SolverScratch& scratch);
 
 /// Step 3: the speculative normal bound, restitution (approaches faster than bounceThreshold)
 /// and Coulomb friction. Returns the deepest remaining violation of the contacts' constraints
 /// (metres, >= 0; the positions do not change in this step).
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
                              std::span<Vec3> v, std::span<const float> invMass, float dt,
-                             float bounceThreshold, int iterations,
-                             std::vector<uint32_t>& activeScratch);
+                             float bounceThreshold, int iterations, size_t bodyCount,
+                             SolverScratch& scratch);
 
 /// An object pair that passed the bounding-sphere test (dense body indices, a < b).
 struct CandidatePair {
@@ -166,8 +174,8 @@ struct CollisionState {
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase
     std::vector<uint32_t> bodyFirstParticle, bodyParticleCount;
     std::vector<RigidPoint> rigidPoints;
-    std::vector<uint32_t> activeContacts; ///< scratch of the projection and velocity pass
-    std::vector<uint32_t> impacts;        ///< scratch of the rigid phase
+    SolverScratch solver;          ///< scratch of the projection and velocity pass
+    std::vector<uint32_t> impacts; ///< scratch of the rigid phase
 };
 
 } // namespace ffd::detail

@@ -165,38 +165,63 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
 
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations,
-                           std::vector<uint32_t>& active) {
+                           size_t bodyCount, SolverScratch& scratch) {
     const float invDt = 1.0f / dt;
     const bool follow = !v.empty();
     for (Contact& c : contacts) c.positionImpulse = 0;
-    // The first sweep visits every contact; the later ones only those found violated, as most
-    // contacts are speculative (still apart) and stay so.
-    active.clear();
-    for (int it = 0; it < iterations; ++it) {
-        const size_t count = it == 0 ? contacts.size() : active.size();
-        for (size_t n = 0; n < count; ++n) {
-            Contact& c = contacts[it == 0 ? n : active[n]];
-            const Vec3 pa = blend(c.a, x);
-            const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-            const float C = dot(pa - pb, c.normal) - c.offset;
-            if (C >= 0) continue;
-            const float W = c.invMassA + c.invMassB;
-            if (!(W > 0)) continue;
-            if (it == 0) active.push_back(uint32_t(n));
-            const float lambda = -C / W;
-            push(c.a, x, invMass, c.normal * lambda);
-            if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
-            if (!follow) continue;
+    auto sweep = [&](Contact& c) {
+        const Vec3 pa = blend(c.a, x);
+        const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
+        const float C = dot(pa - pb, c.normal) - c.offset;
+        const float W = c.invMassA + c.invMassB;
+        if (C >= 0 || !(W > 0)) return C;
+        const float lambda = -C / W;
+        push(c.a, x, invMass, c.normal * lambda);
+        if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
+        if (follow) {
             c.positionImpulse += lambda * invDt;
             push(c.a, v, invMass, c.normal * (lambda * invDt));
             if (c.hasB) push(c.b, v, invMass, c.normal * (-lambda * invDt));
         }
+        return C;
+    };
+    // The first sweep visits every contact and keeps its separation, and each body's deepest
+    // violation. The later sweeps visit the contacts found violated and those that the
+    // corrections could close: a body is pushed by about its deepest violation at most, so a
+    // contact further apart than twice the deepest violations of its two bodies stays apart.
+    // Most contacts are speculative and well apart; a contact just touching a body that is
+    // pushed is kept, so chains (a heavy body on a light one on the floor) are corrected
+    // through.
+    std::vector<float>& separation = scratch.slack;
+    std::vector<float>& depth = scratch.bodyReach;
+    separation.resize(contacts.size());
+    depth.assign(bodyCount, 0.0f);
+    float deepest = 0;
+    for (size_t n = 0; n < contacts.size(); ++n) {
+        Contact& c = contacts[n];
+        const float C = sweep(c);
+        separation[n] = C;
+        if (C >= 0) continue;
+        deepest = maxNum(deepest, -C);
+        depth[c.bodyA] = maxNum(depth[c.bodyA], -C);
+        if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
     }
+    if (iterations <= 1 || deepest <= 0) return;
+    std::vector<uint32_t>& active = scratch.active;
+    active.clear();
+    for (size_t n = 0; n < contacts.size(); ++n) {
+        const Contact& c = contacts[n];
+        const float reach = 2.0f * (depth[c.bodyA] + (c.hasB ? depth[c.bodyB] : 0.0f));
+        if (separation[n] < reach) active.push_back(uint32_t(n));
+    }
+    for (int it = 1; it < iterations; ++it)
+        for (uint32_t n : active) sweep(contacts[n]);
 }
 
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
                              std::span<Vec3> v, std::span<const float> invMass, float dt,
-                             float bounceThreshold, int iterations, std::vector<uint32_t>& active) {
+                             float bounceThreshold, int iterations, size_t bodyCount,
+                             SolverScratch& scratch) {
     // The positions are final here: the gaps, and the deepest violation left, once.
     float deepest = 0;
     for (Contact& c : contacts) {
@@ -208,43 +233,59 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
         deepest = maxNum(deepest, -C);
     }
     const float invDt = 1.0f / dt;
-    // The first sweep visits every contact; the later ones only those that act (an impulse, or
-    // a friction budget): most contacts are speculative and still apart.
-    active.clear();
-    for (int it = 0; it < iterations; ++it) {
-        const size_t count = it == 0 ? contacts.size() : active.size();
-        for (size_t n = 0; n < count; ++n) {
-            Contact& c = contacts[it == 0 ? n : active[n]];
-            const float W = c.invMassA + c.invMassB;
-            if (!(W > 0)) continue;
-            const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
-            const float vn = dot(rel, c.normal);
-            // Close at most the remaining gap next substep (speculative); bounce back fast
-            // impacts by the restitution.
-            float target = -c.gap * invDt;
-            if (c.restitution > 0 && c.approachSpeed < -bounceThreshold)
-                target = maxNum(target, -c.restitution * c.approachSpeed);
-            const float oldNormal = c.normalImpulse;
-            c.normalImpulse = maxNum(oldNormal + (target - vn) / W, 0.0f);
-            Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
-            const float limit = c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse);
-            if (limit > 0) {
-                const Vec3 vt = rel - c.normal * vn;
-                const Vec3 oldTangent = c.tangentImpulse;
-                Vec3 t = oldTangent - vt / W;
-                const float tl = length(t);
-                if (tl > limit) t = t * (limit / tl);
-                c.tangentImpulse = t;
-                impulse += t - oldTangent;
-            }
-            if (it == 0) {
-                if (c.normalImpulse == 0 && limit == 0) continue;
-                active.push_back(uint32_t(n));
-            }
-            push(c.a, v, invMass, impulse);
-            if (c.hasB) push(c.b, v, invMass, -impulse);
+    // One sweep step for contact c; returns its slack: how much faster its points would have to
+    // approach before it acted (-infinity when it acts: an impulse, or a friction budget).
+    std::vector<float>& change = scratch.bodyReach; // per body, the largest in the first sweep
+    change.assign(bodyCount, 0.0f);
+    auto sweep = [&](Contact& c) {
+        const float W = c.invMassA + c.invMassB;
+        if (!(W > 0)) return INFINITY;
+        const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        const float vn = dot(rel, c.normal);
+        // Close at most the remaining gap next substep (speculative); bounce back fast
+        // impacts by the restitution.
+        float target = -c.gap * invDt;
+        if (c.restitution > 0 && c.approachSpeed < -bounceThreshold)
+            target = maxNum(target, -c.restitution * c.approachSpeed);
+        const float oldNormal = c.normalImpulse;
+        c.normalImpulse = maxNum(oldNormal + (target - vn) / W, 0.0f);
+        Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
+        const float limit = c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse);
+        if (limit > 0) {
+            const Vec3 vt = rel - c.normal * vn;
+            const Vec3 oldTangent = c.tangentImpulse;
+            Vec3 t = oldTangent - vt / W;
+            const float tl = length(t);
+            if (tl > limit) t = t * (limit / tl);
+            c.tangentImpulse = t;
+            impulse += t - oldTangent;
         }
+        const bool acts = c.normalImpulse > 0 || limit > 0;
+        if (!acts && oldNormal == 0) return vn - target; // nothing to apply
+        push(c.a, v, invMass, impulse);
+        if (c.hasB) push(c.b, v, invMass, -impulse);
+        const float dv = length(impulse) * W;
+        change[c.bodyA] = maxNum(change[c.bodyA], dv);
+        if (c.hasB) change[c.bodyB] = maxNum(change[c.bodyB], dv);
+        return acts ? -INFINITY : vn - target;
+    };
+    // The first sweep visits every contact; the later ones those that act and those near
+    // enough to acting that the impulses on their bodies could tip them (slack under twice the
+    // largest changes of their bodies' contacts in the first sweep): most contacts are
+    // speculative, apart and not approaching.
+    std::vector<float>& slack = scratch.slack;
+    slack.resize(contacts.size());
+    for (size_t n = 0; n < contacts.size(); ++n) slack[n] = sweep(contacts[n]);
+    if (iterations <= 1) return deepest;
+    std::vector<uint32_t>& active = scratch.active;
+    active.clear();
+    for (size_t n = 0; n < contacts.size(); ++n) {
+        const Contact& c = contacts[n];
+        const float reach = 2.0f * (change[c.bodyA] + (c.hasB ? change[c.bodyB] : 0.0f));
+        if (slack[n] < reach) active.push_back(uint32_t(n));
     }
+    for (int it = 1; it < iterations; ++it)
+        for (uint32_t n : active) sweep(contacts[n]);
     return deepest;
 }
 

@@ -444,7 +444,7 @@ void respondBeforeMove(WorldData& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return;
     const int iterations = w.settings.solverIterations;
-    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, s.activeContacts);
+    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
                     s.bodyParticleCount, dt, impact, iterations, s.impacts);
@@ -455,9 +455,9 @@ float respondAfterMove(WorldData& w, float dt) {
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, s.activeContacts);
+    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver);
     return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,
-                                  s.activeContacts);
+                                  w.bodies.size(), s.solver);
 }
 
 } // namespace ffd::detail

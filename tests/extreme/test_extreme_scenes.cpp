@@ -209,9 +209,10 @@ TEST(ExtremeScenes, FrameStepOneFifteenth) {
 }
 
 // Lattices of a single cell (8 particles, one FFD-AABB box): one dropped tumbling onto the
-// floor, and one dropped onto another from 0.7 m above it, offset by (0.2, 0.15) m; 5 s.
+// floor, and one dropped onto another from 0.7 m above it, offset by (0.2, 0.15) m; 8 s (the
+// upper one slides off and tumbles along the floor for up to about 5 s).
 // Criteria: every frame finite; the stacked pair's centres never closer than 0.9 m (they
-// did not pass through each other); after 5 s no vertex below the floor by more than 1 cm,
+// did not pass through each other); after 8 s no vertex below the floor by more than 1 cm,
 // none inside another body deeper than 1 cm, and at rest (below 1e-6 J/kg).
 // (Exactly aligned single-cell boxes do pass through each other: tests/known_bugs.)
 TEST(ExtremeScenes, LatticeOfASingleCell) {
@@ -230,7 +231,7 @@ TEST(ExtremeScenes, LatticeOfASingleCell) {
     ASSERT_EQ(world.info(below).cells, 1u);
     ASSERT_EQ(world.info(below).particles, 8u);
     float closest = INFINITY;
-    for (int f = 0; f < 300; ++f) {
+    for (int f = 0; f < 480; ++f) {
         world.step();
         ASSERT_TRUE(allFinite(world)) << "frame " << f;
         closest = std::min(closest, length(world.centreOfMass(above) - world.centreOfMass(below)));
