@@ -75,36 +75,38 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
                      int iterations, std::vector<uint32_t>& impacts) {
-    points.resize(contacts.size());
     states.assign(firstParticle.size(), RigidState{});
     impacts.clear();
+    // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is left to
+    // the particle level, where a partial rigid target that many contacts share could not be
+    // met by one rigid motion and would leave a spurious rotation behind; a hard threshold
+    // would make contacts near it flicker.
+    auto rigidityOf = [&](const Contact& c) {
+        const float ramp =
+            std::clamp((-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
+        return c.rigidity * ramp;
+    };
     for (size_t k = 0; k < contacts.size(); ++k) {
         Contact& c = contacts[k];
-        RigidPoint& p = points[k];
         const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
-        // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is
-        // left to the particle level, where a partial rigid target that many contacts share
-        // could not be met by one rigid motion and would leave a spurious rotation behind; a
-        // hard threshold would make contacts near it flicker.
-        const float ramp =
-            std::clamp((-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
-        p.rigidity = c.rigidity * ramp;
-        p.normalImpulse = 0;
-        if (p.rigidity <= 0) continue;
+        if (!(rigidityOf(c) > 0)) continue;
         impacts.push_back(uint32_t(k));
         states[c.bodyA].active = true;
         if (c.hasB) states[c.bodyB].active = true;
     }
     if (impacts.empty()) return; // at rest: nothing for the rigid modes to do
     prepareRigidStates(x, invMass, firstParticle, particleCount, states);
-    // What does not change over the iterations, once per contact: the arms' angular directions,
-    // the effective mass and the target normal velocity.
+    // What does not change over the iterations, once per impact (points[j] for impacts[j]): the
+    // arms' angular directions, the effective mass and the target normal velocity.
     const float invDt = 1.0f / dt;
-    for (uint32_t k : impacts) {
-        const Contact& c = contacts[k];
-        RigidPoint& p = points[k];
+    points.resize(impacts.size());
+    for (size_t j = 0; j < impacts.size(); ++j) {
+        const Contact& c = contacts[impacts[j]];
+        RigidPoint& p = points[j];
+        p.rigidity = rigidityOf(c);
+        p.normalImpulse = 0;
         const RigidState& A = states[c.bodyA];
         const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
         p.armA = cross(pa - A.centre, c.normal);
@@ -134,9 +136,9 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                        : c.approachSpeed;
     }
     for (int it = 0; it < iterations; ++it)
-        for (uint32_t k : impacts) {
-            const Contact& c = contacts[k];
-            RigidPoint& p = points[k];
+        for (size_t j = 0; j < impacts.size(); ++j) {
+            const Contact& c = contacts[impacts[j]];
+            RigidPoint& p = points[j];
             if (p.invK == 0) continue;
             RigidState& A = states[c.bodyA];
             // Normal relative velocity: base + (dv_A + dw_A x r_A) . n - (B's), with
@@ -154,7 +156,8 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                 B->dw -= p.turnB * d;
             }
         }
-    for (uint32_t k : impacts) contacts[k].rigidImpulse = points[k].normalImpulse;
+    for (size_t j = 0; j < impacts.size(); ++j)
+        contacts[impacts[j]].rigidImpulse = points[j].normalImpulse;
     for (RigidState& s : states) {
         if (!s.active) continue;
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
