@@ -27,6 +27,17 @@ void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> 
     }
 }
 
+// The contacts the later sweeps visit: those whose slack (separation, or velocity slack) is
+// under twice the reach of their two bodies (how far the first sweep moved them).
+void selectReachable(std::span<const Contact> contacts, SolverScratch& s) {
+    s.active.clear();
+    for (size_t n = 0; n < contacts.size(); ++n) {
+        const Contact& c = contacts[n];
+        const float reach = 2.0f * (s.bodyReach[c.bodyA] + (c.hasB ? s.bodyReach[c.bodyB] : 0.0f));
+        if (s.slack[n] < reach) s.active.push_back(uint32_t(n));
+    }
+}
+
 } // namespace
 
 void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
@@ -210,15 +221,9 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
         if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
     }
     if (iterations <= 1 || deepest <= 0) return;
-    std::vector<uint32_t>& active = scratch.active;
-    active.clear();
-    for (size_t n = 0; n < contacts.size(); ++n) {
-        const Contact& c = contacts[n];
-        const float reach = 2.0f * (depth[c.bodyA] + (c.hasB ? depth[c.bodyB] : 0.0f));
-        if (separation[n] < reach) active.push_back(uint32_t(n));
-    }
+    selectReachable(contacts, scratch);
     for (int it = 1; it < iterations; ++it)
-        for (uint32_t n : active) sweep(contacts[n]);
+        for (uint32_t n : scratch.active) sweep(contacts[n]);
 }
 
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
@@ -280,15 +285,9 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     slack.resize(contacts.size());
     for (size_t n = 0; n < contacts.size(); ++n) slack[n] = sweep(contacts[n]);
     if (iterations <= 1) return deepest;
-    std::vector<uint32_t>& active = scratch.active;
-    active.clear();
-    for (size_t n = 0; n < contacts.size(); ++n) {
-        const Contact& c = contacts[n];
-        const float reach = 2.0f * (change[c.bodyA] + (c.hasB ? change[c.bodyB] : 0.0f));
-        if (slack[n] < reach) active.push_back(uint32_t(n));
-    }
+    selectReachable(contacts, scratch);
     for (int it = 1; it < iterations; ++it)
-        for (uint32_t n : active) sweep(contacts[n]);
+        for (uint32_t n : scratch.active) sweep(contacts[n]);
     return deepest;
 }
 

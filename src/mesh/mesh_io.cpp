@@ -247,10 +247,23 @@ void checkScene(const aiScene* scene, MeshFormat format, const std::string& sour
                          "with at least 3 corners)");
 }
 
+// Turns every OBJ statement that starts with 'm' or 'u' (mtllib, usemtl, and whatever else
+// Assimp's OBJ reader dispatches to its material code by that first letter) into a comment.
+// Materials mean nothing here, and Assimp 5.2's material path crashes (a wild write) on some
+// malformed lines (found by fuzz_mesh_load; tests/mesh LoadMesh.ObjMaterialLinesAreIgnored).
+void dropObjMaterialStatements(std::string& data) {
+    size_t start = data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+    for (size_t i = start; i < data.size(); ++i) {
+        const bool lineStart = i == start || data[i - 1] == '\n' || data[i - 1] == '\r';
+        if (lineStart && (data[i] == 'm' || data[i] == 'u')) data[i] = '#';
+    }
+}
+
 TriangleMesh importWithAssimp(std::string& data, MeshFormat format, bool text,
                               const std::string& source) {
     // Assimp's text readers look for a line end after the last line.
     if (text && format != MeshFormat::Stl && data.back() != '\n') data.push_back('\n');
+    if (format == MeshFormat::Obj) dropObjMaterialStatements(data);
 
     Assimp::Importer importer;
     importer.SetIOHandler(new NoFileSystem); // the importer owns and deletes it

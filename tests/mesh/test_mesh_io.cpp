@@ -323,6 +323,31 @@ TEST(LoadMesh, AcceptsCommonObjAndPlyVariants) {
     expectCube(loadMesh(dir / "variants.ply"));
 }
 
+// Material statements are ignored: a library that cannot be found, a material never defined,
+// and the malformed material lines on which Assimp's reader wrote through a wild pointer (found
+// by fuzz_mesh_load: lines starting with 'm' carrying bytes above 0x7f).
+TEST(LoadMesh, ObjMaterialLinesAreIgnored) {
+    TempDir dir;
+    std::string obj = "mtllib missing.mtl\nusemtl nowhere\n";
+    for (const Vec3& p : kCorners) obj += "v " + num(p.x) + " " + num(p.y) + " " + num(p.z) + "\n";
+    obj += "f 1 2 3\n";
+    writeFile(dir / "materials.obj", obj);
+    const TriangleMesh m = loadMesh(dir / "materials.obj");
+    EXPECT_EQ(m.triangleCount(), 1u);
+
+    const std::string crash = "v 0 0 1\nv 1 0 0\nv 0 1 0\n"
+                              "map_Psmtllib x.mllib x.mtl\xe8\xe8\xe8\xe8\xe8\xe8//1 3//1 2//1\n"
+                              "mtllib x.mllib x.mtl\xe8\xe8\xe8\xe8\xe8\xe8//1 f 2 0 1\n"
+                              "f 2 3 3\n";
+    writeFile(dir / "fuzzed.obj", crash);
+    try {
+        const TriangleMesh fuzzed = loadMesh(dir / "fuzzed.obj");
+        EXPECT_EQ(fuzzed.triangleCount(), 1u);
+    } catch (const ffd::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("fuzzed.obj"), std::string::npos) << e.what();
+    }
+}
+
 TEST(LoadMesh, PointsAndLinesAloneAreNotAMesh) {
     TempDir dir;
     std::string obj;
