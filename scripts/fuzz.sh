@@ -7,6 +7,10 @@
 # FILE).
 #
 #   scripts/fuzz.sh [SECONDS [TARGET...]]    default: 60 seconds each, all targets
+#
+# FUZZ_SEED=N fixes libFuzzer's random seed and FUZZ_RUNS=N stops each target after N inputs
+# (still within SECONDS): together they make a run repeatable, which is how CI runs it
+# (scripts/test.sh), so that CI reports what a run here would report.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -40,7 +44,10 @@ for t in "${targets[@]}"; do
   [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
   echo "fuzz.sh: $t for $seconds s"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: 2 GiB is a leak or a bomb.
-  if ! "build/fuzz/bin/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  repeat=()
+  [ -n "${FUZZ_SEED:-}" ] && repeat+=(-seed="$FUZZ_SEED")
+  [ -n "${FUZZ_RUNS:-}" ] && repeat+=(-runs="$FUZZ_RUNS")
+  if ! "build/fuzz/bin/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 "${repeat[@]}" \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "$work" "$seeds" \
     >"build/fuzz/$t.log" 2>&1; then
     tail -n 60 "build/fuzz/$t.log" >&2
