@@ -7,6 +7,8 @@
 #include "ffdaabb/world.h"
 #include "interpenetration.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,14 +16,9 @@
 #include <vector>
 
 using namespace ffd;
+using ffd::test::ball;
 
 namespace {
-
-TriangleMesh ball() {
-    TriangleMesh m = icosphere(2);
-    transform(m, 0.5f, {}); // 1 m across
-    return m;
-}
 
 BodySettings sphereAt(Vec3 p, Vec3 velocity = {}) {
     BodySettings s;

@@ -5,22 +5,17 @@
 #include "ffdaabb/generators.h"
 #include "ffdaabb/world.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 using namespace ffd;
+using ffd::test::ball;
 
-namespace {
-
-TriangleMesh ball() {
-    TriangleMesh m = icosphere(2);
-    transform(m, 0.5f, {});
-    return m;
-}
-
-} // namespace
+namespace {} // namespace
 
 // 200 spheres (1 m across) created overlapping, at random points of a 10 m cube with random
 // rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).

@@ -8,11 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <cstdlib>
-#include <fcntl.h>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -130,35 +127,6 @@ inline bool inPath(const std::string& name) {
         start = end + 1;
     }
     return false;
-}
-
-/// Runs a program (looked up in PATH) with arguments, capturing stdout and stderr.
-inline RunResult runProgram(const std::vector<std::string>& args, int timeoutSeconds = 120) {
-    TempDir dir;
-    const std::string outPath = (dir / "out").string(), errPath = (dir / "err").string();
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        ::alarm(unsigned(timeoutSeconds));
-        ::execvp(argv[0], argv.data());
-        std::_Exit(127);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    RunResult r;
-    if (WIFEXITED(status))
-        r.status = WEXITSTATUS(status);
-    else if (WIFSIGNALED(status))
-        r.status = WTERMSIG(status) == SIGALRM ? 124 : 128 + WTERMSIG(status);
-    r.out = readFile(outPath);
-    r.err = readFile(errPath);
-    return r;
 }
 
 } // namespace ffd::test

@@ -1,5 +1,7 @@
 #include "test_support.h"
 
+#include "ffdaabb/generators.h"
+
 #include <cmath>
 #include <csignal>
 #include <fcntl.h>
@@ -66,12 +68,10 @@ std::filesystem::path cliPath() {
     return std::filesystem::path(FFD_BINARY_DIR) / "bin" / "ffdaabb";
 }
 
-RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds) {
+RunResult runProgram(const std::vector<std::string>& args, int timeoutSeconds) {
     TempDir dir;
     const std::string outPath = (dir / "out").string(), errPath = (dir / "err").string();
-    const std::string exe = cliPath().string();
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(exe.c_str()));
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     const pid_t pid = ::fork();
@@ -81,7 +81,7 @@ RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds) {
         ::dup2(out, 1);
         ::dup2(err, 2);
         ::alarm(unsigned(timeoutSeconds));
-        ::execv(exe.c_str(), argv.data());
+        ::execvp(argv[0], argv.data());
         std::_Exit(127);
     }
     int status = 0;
@@ -94,6 +94,18 @@ RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds) {
     r.out = readFile(outPath);
     r.err = readFile(errPath);
     return r;
+}
+
+RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds) {
+    std::vector<std::string> command{cliPath().string()};
+    command.insert(command.end(), args.begin(), args.end());
+    return runProgram(command, timeoutSeconds);
+}
+
+TriangleMesh ball() {
+    TriangleMesh m = icosphere(2);
+    transform(m, 0.5f, {});
+    return m;
 }
 
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "ffdaabb/math.h"
+#include "ffdaabb/mesh.h"
 
 #include <filesystem>
 #include <random>
@@ -47,9 +48,13 @@ private:
 
 /// Result of running a command.
 struct RunResult {
-    int status = -1;     ///< exit status (or 128 + signal)
+    int status = -1; ///< exit status (or 128 + signal)
     std::string out, err;
 };
+
+/// Runs a program with arguments (args[0]: a path, or a name looked up in PATH), capturing
+/// stdout and stderr. `timeoutSeconds` kills it when exceeded (status 124).
+RunResult runProgram(const std::vector<std::string>& args, int timeoutSeconds = 120);
 
 /// Runs the ffdaabb CLI built alongside the tests with `args` (already split), capturing
 /// stdout and stderr. `timeoutSeconds` kills it when exceeded (status 124).
@@ -57,6 +62,9 @@ RunResult runCli(const std::vector<std::string>& args, int timeoutSeconds = 300)
 
 /// Path of the CLI binary under test.
 std::filesystem::path cliPath();
+
+/// An icosphere of 2 subdivisions (162 vertices), 1 m across, centred on the origin.
+TriangleMesh ball();
 
 /// True when p lies in the convex hull of the 8 points (within tol, absolute): for every plane
 /// through three of the points that has all 8 on one side, p must be on that side too.

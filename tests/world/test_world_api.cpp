@@ -4,17 +4,14 @@
 #include "ffdaabb/world.h"
 #include "world/world_data.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 using namespace ffd;
+using ffd::test::ball;
 
 namespace {
-
-TriangleMesh ball() {
-    TriangleMesh m = icosphere(2);
-    transform(m, 0.5f, {});
-    return m;
-}
 
 BodySettings at(Vec3 p) {
     BodySettings s;
