@@ -245,6 +245,7 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     // approach before it acted (-infinity when it acts: an impulse, or a friction budget).
     std::vector<float>& change = scratch.bodyReach; // per body, the largest in the first sweep
     change.assign(bodyCount, 0.0f);
+    bool firstSweep = true;
     auto sweep = [&](Contact& c) {
         const float W = c.invMassA + c.invMassB;
         if (!(W > 0)) return INFINITY;
@@ -272,9 +273,11 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
         if (!acts && oldNormal == 0) return vn - target; // nothing to apply
         push(c.a, v, invMass, impulse);
         if (c.hasB) push(c.b, v, invMass, -impulse);
-        const float dv = length(impulse) * W;
-        change[c.bodyA] = maxNum(change[c.bodyA], dv);
-        if (c.hasB) change[c.bodyB] = maxNum(change[c.bodyB], dv);
+        if (firstSweep) {
+            const float dv = length(impulse) * W;
+            change[c.bodyA] = maxNum(change[c.bodyA], dv);
+            if (c.hasB) change[c.bodyB] = maxNum(change[c.bodyB], dv);
+        }
         return acts ? -INFINITY : vn - target;
     };
     // The first sweep visits every contact; the later ones those that act and those near
@@ -286,6 +289,7 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     for (size_t n = 0; n < contacts.size(); ++n) slack[n] = sweep(contacts[n]);
     if (iterations <= 1) return deepest;
     selectReachable(contacts, scratch);
+    firstSweep = false;
     for (int it = 1; it < iterations; ++it)
         for (uint32_t n : scratch.active) sweep(contacts[n]);
     return deepest;

@@ -16,7 +16,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 namespace ffd::detail {
@@ -71,20 +70,10 @@ public:
 
     static constexpr uint32_t kNoOwner = UINT32_MAX;
 
-    /// forEachInCell over every cell of a range. The buckets are looked up (and prefetched)
-    /// before any is read, then the entries of those that matter, so their cache misses
-    /// overlap instead of queueing.
-    template <class F>
-    void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
-                        uint32_t skipOwner, F&& f) const {
-        forEachInRange(
-            i0, i1, j0, j1, k0, k1, skipOwner,
-            Aabb{Vec3{-INFINITY, -INFINITY, -INFINITY}, Vec3{INFINITY, INFINITY, INFINITY}},
-            std::forward<F>(f));
-    }
-
-    /// forEachInRange for the items whose position lies in `within` (closed bounds): the
-    /// position, stored with the entry, is checked before anything else is read.
+    /// forEachInCell over every cell of a range, for the items whose position lies in `within`
+    /// (closed bounds). The buckets are looked up (and prefetched) before any is read, then
+    /// the entries of those that matter, so their cache misses overlap instead of queueing;
+    /// each entry's stored position is checked before anything else of it is read.
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, const Aabb& within, F&& f) const {
