@@ -92,6 +92,11 @@ struct WorldSettings {
     int threads = 1;           ///< worker threads for per-body stages (0 = all cores)
     bool meshUpdate = true;    ///< update embedded mesh vertices at the end of each frame
     int sweepThreshold = 64;   ///< bodies above which sphere pairs use sort-and-sweep
+    /// Bound (m/s) on how fast the rigid impact phase may push two bodies' rigid motions apart
+    /// at a contact; 0: no bound. Set it (about 5) for scenes that create bodies overlapping:
+    /// without it, deformation speed of crushed bodies is turned into rigid motion and throws
+    /// them apart at tens of m/s. Costs a wedged light body its way out (docs/LIMITS.md).
+    float maxSeparationSpeed = 0.0f;
 };
 
 /// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of

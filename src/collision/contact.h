@@ -58,6 +58,7 @@ struct Contact {
     float restitution = 0;
     float rigidity = 0; ///< share of the approach the rigid phase removes, [0, 1]
     float depth = 0;    ///< penetration when detected, metres (>= 0)
+    float distance = 0; ///< signed distance to B's exit face when detected (< 0: inside)
     bool hasB = false;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
@@ -87,7 +88,8 @@ struct RigidState {
     Vec3 centre;
     float invMass = 0;
     Mat3 invInertia;
-    Vec3 dv, dw; ///< accumulated linear / angular velocity change
+    Vec3 velocity, angularVelocity; ///< of the particles' rigid motion (mean, least squares)
+    Vec3 dv, dw;                    ///< accumulated linear / angular velocity change
     uint32_t firstParticle = 0, particleCount = 0;
     bool active = false;
 };
@@ -99,25 +101,28 @@ struct RigidPoint {
     float invMassA = 0; ///< A's linear inverse mass (0 when A is not involved)
     float invMassB = 0; ///< B's, 0 for the floor
     float invK = 0;     ///< 1 / (normal inverse effective mass of the pair)
-    float target = 0;   ///< normal velocity the phase aims at
+    float target = 0;   ///< rigid normal velocity the phase aims at
     float normalImpulse = 0;
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
 };
 
-/// Fills mass, centre and inertia of every body whose state is flagged active.
-void prepareRigidStates(std::span<const Vec3> x, std::span<const float> invMass,
-                        std::span<const uint32_t> firstParticle,
+/// Fills mass, centre, inertia and rigid velocities of every body whose state is flagged active.
+void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
+                        std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states);
 
 /// Step 1: for impacts (approaching faster than impactThreshold), removes the share `rigidity`
 /// of the approach beyond what the contact may close in this substep (speculative bound),
 /// through the bodies' rigid modes (normal impulses only), then applies the change to the
-/// bodies' particles. Records approachSpeed and rigidImpulse of every contact.
+/// bodies' particles. maxSeparationSpeed > 0 bounds how fast the phase may push two bodies'
+/// rigid motions apart at a contact (0: no bound). Records approachSpeed and rigidImpulse of
+/// every contact.
 void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
                      std::vector<RigidPoint>& scratch, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     int iterations, std::vector<uint32_t>& impactScratch);
+                     float maxSeparationSpeed, int iterations,
+                     std::vector<uint32_t>& impactScratch);
 
 /// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
 /// each body's reach (how far the first sweep moved it), and the contacts the later sweeps
@@ -147,6 +152,15 @@ struct CandidatePair {
     friend bool operator==(const CandidatePair&, const CandidatePair&) = default;
 };
 
+/// Contacts a node keeps in one substep, the deepest (pipeline.cpp).
+inline constexpr uint32_t kMaxContactsPerNode = 16;
+
+/// Indices (into CollisionState::all) of the contacts a node has this substep.
+struct NodeSlots {
+    uint32_t contact[kMaxContactsPerNode] = {};
+    uint32_t count = 0;
+};
+
 /// Collision buffers kept between steps (no steady-state allocation).
 struct CollisionState {
     std::vector<CandidatePair> pairs;
@@ -156,6 +170,8 @@ struct CollisionState {
     SpatialHash hash;
     std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
+    std::vector<NodeSlots> nodeSlots; ///< per node, its contacts (when nodeStamp == stamp)
+    std::vector<uint32_t> nodeStamp;
     uint32_t stamp = 0;
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object

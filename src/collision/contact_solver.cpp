@@ -50,8 +50,8 @@ void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, V
     }
 }
 
-void prepareRigidStates(std::span<const Vec3> x, std::span<const float> invMass,
-                        std::span<const uint32_t> firstParticle,
+void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
+                        std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states) {
     for (size_t b = 0; b < states.size(); ++b) {
         RigidState& s = states[b];
@@ -59,25 +59,30 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const float> invMass,
         s.firstParticle = firstParticle[b];
         s.particleCount = particleCount[b];
         double M = 0;
-        Vec3 c{};
+        Vec3 c{}, p{};
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
             const float m = 1.0f / invMass[i];
             M += double(m);
             c += x[i] * m;
+            p += v[i] * m;
         }
         c = c / float(M);
         float xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+        Vec3 L{};
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
             const float m = 1.0f / invMass[i];
             const Vec3 r = x[i] - c;
             xx += m * r.x * r.x, yy += m * r.y * r.y, zz += m * r.z * r.z;
             xy += m * r.x * r.y, xz += m * r.x * r.z, yz += m * r.y * r.z;
+            L += cross(r, v[i]) * m;
         }
         const float trace = xx + yy + zz;
         const Mat3 I{{{trace - xx, -xy, -xz}, {-xy, trace - yy, -yz}, {-xz, -yz, trace - zz}}};
         s.centre = c;
         s.invMass = float(1.0 / M);
+        s.velocity = p * s.invMass;
         if (!inverse(I, s.invInertia, 1e-12f * trace * trace * trace)) s.invInertia = Mat3{};
+        s.angularVelocity = s.invInertia * L;
     }
 }
 
@@ -85,7 +90,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     int iterations, std::vector<uint32_t>& impacts) {
+                     float maxSeparationSpeed, int iterations, std::vector<uint32_t>& impacts) {
     states.assign(firstParticle.size(), RigidState{});
     impacts.clear();
     // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is left to
@@ -108,7 +113,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         if (c.hasB) states[c.bodyB].active = true;
     }
     if (impacts.empty()) return; // at rest: nothing for the rigid modes to do
-    prepareRigidStates(x, invMass, firstParticle, particleCount, states);
+    prepareRigidStates(x, v, invMass, firstParticle, particleCount, states);
     // What does not change over the iterations, once per impact (points[j] for impacts[j]): the
     // arms' angular directions, the effective mass and the target normal velocity.
     const float invDt = 1.0f / dt;
@@ -140,11 +145,29 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         // only: friction is force-limited, so the particle-level pass removes the same momentum
         // once its limit counts this phase's normal impulse (a rigid-level friction with the
         // body's anisotropic response was found to feed a slow spin).
+        //
+        // With a separation bound (WorldSettings::maxSeparationSpeed > 0) the phase may bring
+        // the rigid modes' relative normal velocity at the contact (`base`, before the phase)
+        // up to the allowed approach plus the bound, not beyond. Particle velocity can be
+        // mostly deformation (shape matching restoring a dent, bodies created overlapping):
+        // read at the particle level alone, that speed is turned into rigid motion, which
+        // throws such bodies apart at tens of m/s. The phase's changes move the particle and
+        // the rigid normal velocity by the same amount, so the bound is one more target.
         const float gap = dot(pa - pb, c.normal) - c.offset;
         const float allowed = -maxNum(gap, 0.0f) * invDt;
+        float base = 0;
+        if (maxSeparationSpeed > 0) {
+            base = dot(A.velocity + cross(A.angularVelocity, pa - A.centre), c.normal);
+            if (c.hasB) {
+                const RigidState& B = states[c.bodyB];
+                base -= dot(B.velocity + cross(B.angularVelocity, pb - B.centre), c.normal);
+            }
+        }
         p.target = c.approachSpeed < allowed
                        ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
                        : c.approachSpeed;
+        if (maxSeparationSpeed > 0)
+            p.target = minNum(p.target, c.approachSpeed + (allowed + maxSeparationSpeed - base));
     }
     for (int it = 0; it < iterations; ++it)
         for (size_t j = 0; j < impacts.size(); ++j) {

@@ -47,6 +47,7 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec
     c.boxB = box;
     c.hasB = true;
     c.normal = planes.normal[hit.face];
+    c.distance = hit.distance;
     c.depth = maxNum(0.0f, -hit.distance);
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
@@ -273,8 +274,33 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     if (mode == CollisionMode::None || n < 2) return;
 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
+    // The node slots (which contacts each node has) are stamped the same way.
     s.planeStamp.resize(s.planes.size(), 0);
-    if (++s.stamp == 0) std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0), s.stamp = 1;
+    s.nodeStamp.resize(s.planes.size() * 8, 0);
+    s.nodeSlots.resize(s.planes.size() * 8);
+    if (++s.stamp == 0) {
+        std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0);
+        std::fill(s.nodeStamp.begin(), s.nodeStamp.end(), 0);
+        s.stamp = 1;
+    }
+    // A node keeps at most kMaxContactsPerNode contacts (one per box that holds it), the
+    // first by rank: a boundary box before an interior one (an interior box has no face
+    // leading out of its body), then the deeper (signed distance to the exit face), then the
+    // lower box index. The ranking is a total order, so the kept set is the same in whatever
+    // order the boxes are visited and every mode finds the same contacts. The paper's scenes
+    // never reach the bound; bodies created overlapping would otherwise make a contact for
+    // every node in every box of every body around it (200 spheres at one spot: hundreds of
+    // millions) (docs/ALGORITHM.md, "Contacts per node").
+    auto isInterior = [&](const Contact& c) {
+        const BodyRecord& B = w.bodies[c.bodyB];
+        return B.model->lattice.boxes[c.boxB - B.firstBox].outsideFaces == 0;
+    };
+    auto rankLess = [&](bool interior, float distance, uint32_t box, const Contact& c) {
+        const bool cInterior = isInterior(c);
+        if (interior != cInterior) return !interior;
+        if (distance != c.distance) return distance < c.distance;
+        return box < c.boxB;
+    };
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
                        float margin) {
         ++outPotential;
@@ -284,11 +310,23 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
             s.planeStamp[box] = s.stamp;
         }
-        const NodeBoxHit hit =
-            testNodeInBox(s.planes[box], w.boxBounds[box],
-                          B.model->lattice.boxes[box - B.firstBox].outsideFaces, p, margin);
-        if (hit.inside)
+        const uint8_t outside = B.model->lattice.boxes[box - B.firstBox].outsideFaces;
+        const NodeBoxHit hit = testNodeInBox(s.planes[box], w.boxBounds[box], outside, p, margin);
+        if (!hit.inside) return;
+        NodeSlots& slots = s.nodeSlots[node];
+        if (s.nodeStamp[node] != s.stamp) s.nodeStamp[node] = s.stamp, slots.count = 0;
+        if (slots.count < kMaxContactsPerNode) {
+            slots.contact[slots.count++] = uint32_t(out.size());
             out.push_back(makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]));
+            return;
+        }
+        uint32_t* replace = &slots.contact[0]; // the last-ranked kept contact
+        for (uint32_t k = 1; k < slots.count; ++k)
+            if (const Contact& c = out[slots.contact[k]];
+                !rankLess(isInterior(c), c.distance, c.boxB, out[*replace]))
+                replace = &slots.contact[k];
+        if (!rankLess(outside == 0, hit.distance, box, out[*replace])) return;
+        out[*replace] = makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]);
     };
 
     if (mode == CollisionMode::Brute) {
@@ -447,7 +485,8 @@ void respondBeforeMove(WorldData& w, float dt) {
     solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
-                    s.bodyParticleCount, dt, impact, iterations, s.impacts);
+                    s.bodyParticleCount, dt, impact, w.settings.maxSeparationSpeed, iterations,
+                    s.impacts);
 }
 
 float respondAfterMove(WorldData& w, float dt) {

@@ -163,6 +163,8 @@ void validate(const WorldSettings& s) {
     requireRange("world.solverIterations", s.solverIterations, 1, 1000, "1..1000");
     requireRange("world.threads", s.threads, 0, 1024, "0 (all cores)..1024");
     requireRange("world.sweepThreshold", s.sweepThreshold, 0, 1e9, ">= 0");
+    requireRange("world.maxSeparationSpeed", s.maxSeparationSpeed, 0.0, 1e4,
+                 "0 (no bound)..1e4 m/s");
     if (s.mode != CollisionMode::Enhanced && s.mode != CollisionMode::Previous &&
         s.mode != CollisionMode::Brute && s.mode != CollisionMode::None)
         throw InputError("world.mode", "unknown collision mode");

@@ -20,11 +20,11 @@ namespace {} // namespace
 // 200 spheres (1 m across) created overlapping, at random points of a 10 m cube with random
 // rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).
 // Wanted: after 1 s every sphere finite, slower than 10 m/s and within 20 m of where it
-// started. Today the overlaps are resolved by projection that turns penetration depth into
-// velocity: spheres leave at up to about 47 m/s. (At one spot, all 200 coincident, the first
-// step finds millions of contacts and runs out of memory; with 20 coincident spheres a debug
-// abort() in collision/pipeline.cpp fires. Neither is run here: they would take the machine's
-// memory or the process.)
+// started. Today, with the default settings, the rigid impact phase turns the crushed spheres'
+// deformation speed into rigid motion: they leave at up to about 47 m/s. With
+// WorldSettings::maxSeparationSpeed set they separate gently (tests/extreme
+// OverlappingSpheresSeparateGentlyWithASeparationBound), but that bound is not the default
+// (docs/LIMITS.md, known problem 1).
 TEST(KnownBugs, OverlappingSpheresRecover) {
     World world;
     std::mt19937 rng(1);
