@@ -57,8 +57,7 @@ struct Contact {
     float friction = 0.5f;
     float restitution = 0;
     float rigidity = 0; ///< share of the approach the rigid phase removes, [0, 1]
-    float depth = 0;    ///< penetration when detected, metres (>= 0)
-    float distance = 0; ///< signed distance to B's exit face when detected (< 0: inside)
+    float distance = 0; ///< signed distance to B's exit face (the floor) when detected
     bool hasB = false;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
@@ -71,6 +70,8 @@ struct Contact {
     float gap = 0;             ///< separation after the projection, >= 0
     float normalImpulse = 0;   ///< normal impulse of the velocity pass, >= 0
     Vec3 tangentImpulse;       ///< |.| <= friction * (rigid + position + normal impulses)
+    /// Penetration when detected, metres (>= 0).
+    float depth() const { return maxNum(0.0f, -distance); }
 };
 
 /// Sort key giving every contact set the same order whichever pipeline found it: by A's node,
@@ -106,7 +107,8 @@ struct RigidPoint {
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
 };
 
-/// Fills mass, centre, inertia and rigid velocities of every body whose state is flagged active.
+/// Fills mass, centre and inertia of every body whose state is flagged active, and its rigid
+/// velocity and angular velocity when `v` is given (zero when it is empty).
 void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states);

@@ -58,13 +58,14 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
         if (!s.active) continue;
         s.firstParticle = firstParticle[b];
         s.particleCount = particleCount[b];
+        const bool velocities = !v.empty();
         double M = 0;
         Vec3 c{}, p{};
         for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
             const float m = 1.0f / invMass[i];
             M += double(m);
             c += x[i] * m;
-            p += v[i] * m;
+            if (velocities) p += v[i] * m;
         }
         c = c / float(M);
         float xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
@@ -74,14 +75,14 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
             const Vec3 r = x[i] - c;
             xx += m * r.x * r.x, yy += m * r.y * r.y, zz += m * r.z * r.z;
             xy += m * r.x * r.y, xz += m * r.x * r.z, yz += m * r.y * r.z;
-            L += cross(r, v[i]) * m;
+            if (velocities) L += cross(r, v[i]) * m;
         }
         const float trace = xx + yy + zz;
         const Mat3 I{{{trace - xx, -xy, -xz}, {-xy, trace - yy, -yz}, {-xz, -yz, trace - zz}}};
         s.centre = c;
         s.invMass = float(1.0 / M);
-        s.velocity = p * s.invMass;
         if (!inverse(I, s.invInertia, 1e-12f * trace * trace * trace)) s.invInertia = Mat3{};
+        s.velocity = p * s.invMass;
         s.angularVelocity = s.invInertia * L;
     }
 }
@@ -113,7 +114,10 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         if (c.hasB) states[c.bodyB].active = true;
     }
     if (impacts.empty()) return; // at rest: nothing for the rigid modes to do
-    prepareRigidStates(x, v, invMass, firstParticle, particleCount, states);
+    const bool bounded = maxSeparationSpeed > 0;
+    // The rigid velocities serve only the separation bound.
+    prepareRigidStates(x, bounded ? std::span<const Vec3>(v) : std::span<const Vec3>{}, invMass,
+                       firstParticle, particleCount, states);
     // What does not change over the iterations, once per impact (points[j] for impacts[j]): the
     // arms' angular directions, the effective mass and the target normal velocity.
     const float invDt = 1.0f / dt;
@@ -155,19 +159,17 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         // the rigid normal velocity by the same amount, so the bound is one more target.
         const float gap = dot(pa - pb, c.normal) - c.offset;
         const float allowed = -maxNum(gap, 0.0f) * invDt;
-        float base = 0;
-        if (maxSeparationSpeed > 0) {
-            base = dot(A.velocity + cross(A.angularVelocity, pa - A.centre), c.normal);
+        p.target = c.approachSpeed < allowed
+                       ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
+                       : c.approachSpeed;
+        if (bounded) {
+            float base = dot(A.velocity + cross(A.angularVelocity, pa - A.centre), c.normal);
             if (c.hasB) {
                 const RigidState& B = states[c.bodyB];
                 base -= dot(B.velocity + cross(B.angularVelocity, pb - B.centre), c.normal);
             }
-        }
-        p.target = c.approachSpeed < allowed
-                       ? c.approachSpeed + p.rigidity * (allowed - c.approachSpeed)
-                       : c.approachSpeed;
-        if (maxSeparationSpeed > 0)
             p.target = minNum(p.target, c.approachSpeed + (allowed + maxSeparationSpeed - base));
+        }
     }
     for (int it = 0; it < iterations; ++it)
         for (size_t j = 0; j < impacts.size(); ++j) {

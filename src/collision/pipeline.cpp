@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace ffd::detail {
 
@@ -48,7 +49,6 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec
     c.hasB = true;
     c.normal = planes.normal[hit.face];
     c.distance = hit.distance;
-    c.depth = maxNum(0.0f, -hit.distance);
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
     c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
@@ -252,7 +252,7 @@ void findFloorContacts(WorldData& w) {
                 c.nodeA = node;
                 c.normal = {0, 1, 0};
                 c.offset = floorY;
-                c.depth = maxNum(0.0f, floorY - y);
+                c.distance = y - floorY;
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
                 c.rigidity = r.settings.contactRigidity;
@@ -291,15 +291,10 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     // never reach the bound; bodies created overlapping would otherwise make a contact for
     // every node in every box of every body around it (200 spheres at one spot: hundreds of
     // millions) (docs/ALGORITHM.md, "Contacts per node").
-    auto isInterior = [&](const Contact& c) {
+    auto rankOf = [&](const Contact& c) {
         const BodyRecord& B = w.bodies[c.bodyB];
-        return B.model->lattice.boxes[c.boxB - B.firstBox].outsideFaces == 0;
-    };
-    auto rankLess = [&](bool interior, float distance, uint32_t box, const Contact& c) {
-        const bool cInterior = isInterior(c);
-        if (interior != cInterior) return !interior;
-        if (distance != c.distance) return distance < c.distance;
-        return box < c.boxB;
+        const bool interior = B.model->lattice.boxes[c.boxB - B.firstBox].outsideFaces == 0;
+        return std::tuple(interior, c.distance, c.boxB);
     };
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
                        float margin) {
@@ -322,10 +317,8 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         }
         uint32_t* replace = &slots.contact[0]; // the last-ranked kept contact
         for (uint32_t k = 1; k < slots.count; ++k)
-            if (const Contact& c = out[slots.contact[k]];
-                !rankLess(isInterior(c), c.distance, c.boxB, out[*replace]))
-                replace = &slots.contact[k];
-        if (!rankLess(outside == 0, hit.distance, box, out[*replace])) return;
+            if (rankOf(out[slots.contact[k]]) > rankOf(out[*replace])) replace = &slots.contact[k];
+        if (!(std::tuple(outside == 0, hit.distance, box) < rankOf(out[*replace]))) return;
         out[*replace] = makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]);
     };
 

@@ -256,7 +256,7 @@ std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w,
     detail::findObjectContacts(w, mode, contacts, potential);
     std::vector<std::tuple<uint64_t, Vec3, float>> out;
     for (const detail::Contact& c : contacts)
-        out.emplace_back(detail::contactKey(c), c.normal, c.depth);
+        out.emplace_back(detail::contactKey(c), c.normal, c.depth());
     return out;
 }
 
