@@ -160,7 +160,9 @@ inline constexpr uint32_t kMaxContactsPerNode = 16;
 /// Indices (into CollisionState::all) of the contacts a node has this substep.
 struct NodeSlots {
     uint32_t contact[kMaxContactsPerNode] = {};
+    uint64_t rank[kMaxContactsPerNode] = {}; ///< each contact's rank (pipeline.cpp), lower first
     uint32_t count = 0;
+    uint32_t last = 0; ///< once full: the slot of the last-ranked contact, the next replaced
 };
 
 /// Collision buffers kept between steps (no steady-state allocation).

@@ -6,6 +6,7 @@
 #include "world/world_data.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <tuple>
 
@@ -291,10 +292,12 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     // never reach the bound; bodies created overlapping would otherwise make a contact for
     // every node in every box of every body around it (200 spheres at one spot: hundreds of
     // millions) (docs/ALGORITHM.md, "Contacts per node").
-    auto rankOf = [&](const Contact& c) {
-        const BodyRecord& B = w.bodies[c.bodyB];
-        const bool interior = B.model->lattice.boxes[c.boxB - B.firstBox].outsideFaces == 0;
-        return std::tuple(interior, c.distance, c.boxB);
+    // The rank as one integer: interior bit, the distance's bits in an order-preserving
+    // form, the box index (below 2^31: every box holds 8 nodes in memory).
+    auto rankOf = [](bool interior, float distance, uint32_t box) {
+        uint32_t bits = std::bit_cast<uint32_t>(distance + 0.0f); // -0 ranks as +0
+        bits = (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+        return (uint64_t(interior) << 63) | (uint64_t(bits) << 31) | box;
     };
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
                        float margin) {
@@ -310,16 +313,27 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         if (!hit.inside) return;
         NodeSlots& slots = s.nodeSlots[node];
         if (s.nodeStamp[node] != s.stamp) s.nodeStamp[node] = s.stamp, slots.count = 0;
-        if (slots.count < kMaxContactsPerNode) {
+        // Once the node's slots are full, the last-ranked one is known: a contact that does
+        // not outrank it costs one comparison (bodies created at one spot make tens of
+        // candidates per node, most rejected).
+        const uint64_t rank = rankOf(outside == 0, hit.distance, box);
+        uint32_t slot = slots.count;
+        if (slot < kMaxContactsPerNode) {
             slots.contact[slots.count++] = uint32_t(out.size());
-            out.push_back(makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]));
+            out.emplace_back();
+        } else if (rank < slots.rank[slots.last]) {
+            slot = slots.last;
+        } else {
             return;
         }
-        uint32_t* replace = &slots.contact[0]; // the last-ranked kept contact
-        for (uint32_t k = 1; k < slots.count; ++k)
-            if (rankOf(out[slots.contact[k]]) > rankOf(out[*replace])) replace = &slots.contact[k];
-        if (!(std::tuple(outside == 0, hit.distance, box) < rankOf(out[*replace]))) return;
-        out[*replace] = makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]);
+        slots.rank[slot] = rank;
+        out[slots.contact[slot]] =
+            makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]);
+        if (slots.count == kMaxContactsPerNode) {
+            slots.last = 0;
+            for (uint32_t k = 1; k < slots.count; ++k)
+                if (slots.rank[k] > slots.rank[slots.last]) slots.last = k;
+        }
     };
 
     if (mode == CollisionMode::Brute) {
