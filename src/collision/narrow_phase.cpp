@@ -51,7 +51,7 @@ BoxPlanes boxPlanes(const Vec3 nodes[8]) {
 }
 
 NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
-                         Vec3 p, float skin) {
+                         Vec3 p, float skin, float tieTolerance) {
     NodeBoxHit hit;
     if (!nodeBounds.contains(p, skin)) return hit;
     float d[6];
@@ -70,9 +70,25 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
     for (int f = 0; f < 6; ++f)
         if ((candidates >> f) & 1)
             if (d[f] > best) best = d[f], hit.face = f;
+    for (int f = 0; f < 6; ++f)
+        if (((candidates >> f) & 1) && d[f] >= best - tieTolerance && d[f] >= -tieTolerance)
+            hit.tied |= uint8_t(1u << f);
     hit.inside = true;
     hit.distance = best;
     return hit;
+}
+
+void settleTie(const BoxPlanes& planes, Vec3 p, Vec3 ownCentre, NodeBoxHit& hit) {
+    if (!(hit.tied & (hit.tied - 1))) return;
+    auto side = [&](int f) { return dot(planes.normal[f], ownCentre) - planes.offset[f]; };
+    if (side(hit.face) > 0) return;
+    int face = -1;
+    float farthest = 0;
+    for (int f = 0; f < 6; ++f)
+        if (((hit.tied >> f) & 1) && side(f) > farthest) farthest = side(f), face = f;
+    if (face < 0) return;
+    hit.face = face;
+    hit.distance = dot(planes.normal[face], p) - planes.offset[face];
 }
 
 Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {

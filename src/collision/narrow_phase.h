@@ -44,11 +44,21 @@ struct NodeBoxHit {
     bool inside = false;
     int face = -1;      ///< face whose plane gives the contact normal
     float distance = 0; ///< signed distance to that face (negative = penetrating)
+    uint8_t tied = 0;   ///< faces as near as `face` within the tie tolerance (bit per face)
 };
 
-/// Tests node p against the box (its 8 nodes, their AABB and its outside-face mask).
+/// Tests node p against the box (its 8 nodes, their AABB and its outside-face mask). The
+/// candidate faces within `tieTolerance` of the nearest way out, and no deeper than it, are
+/// reported as `tied`: at an edge or a corner of the box the nearest face is a near tie, which
+/// the caller may settle (preferFace).
 NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
-                         Vec3 p, float skin);
+                         Vec3 p, float skin, float tieTolerance = 0);
+
+/// Settles a near tie (`hit.tied` holds two faces or more: the node is at an edge or a corner
+/// of the box) by the side of the box the node comes from: when the centre of the node's own
+/// box lies inside the nearest face's plane, pushing the node out through that face would not
+/// take its box out of this one, and the tied face its box lies farthest outside of is taken.
+void settleTie(const BoxPlanes& planes, Vec3 p, Vec3 ownCentre, NodeBoxHit& hit);
 
 /// Local coordinates (s,t,u) of p in the trilinear map of 8 corner positions (corner
 /// i + 2j + 4k), by Newton's method from `guess`; returns the best iterate.

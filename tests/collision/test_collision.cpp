@@ -88,6 +88,34 @@ TEST(NarrowPhase, NodeJustOutsideGetsNoContact) {
     EXPECT_NEAR(near.distance, 0.015f, 1e-5f);
 }
 
+// A node at the box's top edge, exactly on the +x plane and 5 mm below the top: the nearest
+// way out is +x (distance 0), +y ties within the tolerance. A node whose own box lies above
+// the box (inside the +x plane) is sent out through the top; one whose box lies beside it
+// keeps +x; a node deeper than the tolerance below the top is no tie.
+TEST(NarrowPhase, NearTiesAreSettledByTheNodesOwnSide) {
+    Vec3 nodes[8];
+    axisBox({0, 0, 0}, {1, 1, 1}, nodes);
+    const detail::BoxPlanes planes = detail::boxPlanes(nodes);
+    const Vec3 p{1.0f, 0.995f, 0.5f};
+    detail::NodeBoxHit hit = detail::testNodeInBox(planes, boundsOf(nodes), 63, p, 0.05f, 0.01f);
+    ASSERT_TRUE(hit.inside);
+    EXPECT_EQ(hit.face, 1);
+    EXPECT_EQ(hit.tied, (1 << 1) | (1 << 3));
+    detail::NodeBoxHit above = hit;
+    detail::settleTie(planes, p, {0.5f, 1.5f, 0.5f}, above);
+    EXPECT_EQ(above.face, 3);
+    EXPECT_NEAR(above.distance, -0.005f, 1e-5f);
+    detail::NodeBoxHit beside = hit;
+    detail::settleTie(planes, p, {1.5f, 0.9f, 0.5f}, beside);
+    EXPECT_EQ(beside.face, 1);
+    EXPECT_EQ(beside.distance, hit.distance);
+    const detail::NodeBoxHit deep =
+        detail::testNodeInBox(planes, boundsOf(nodes), 63, {1.0f, 0.98f, 0.5f}, 0.05f, 0.01f);
+    EXPECT_EQ(deep.tied, 1 << 1);
+    // Without a tolerance nothing ties.
+    EXPECT_EQ(detail::testNodeInBox(planes, boundsOf(nodes), 63, p, 0.05f).tied, 1 << 1);
+}
+
 TEST(NarrowPhase, DeformedBoxPlanesFaceOutward) {
     Vec3 nodes[8];
     axisBox({0, 0, 0}, {1, 1, 1}, nodes);

@@ -4,18 +4,33 @@
 // entry in docs/LIMITS.md. They run every time, so a fix is noticed at once.
 #include "ffdaabb/generators.h"
 #include "ffdaabb/world.h"
+#include "interpenetration.h"
 
 #include "test_support.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace ffd;
 using ffd::test::ball;
 
-namespace {} // namespace
+namespace {
+
+// How deep the deepest mesh vertex lies inside another body (metres), as tests/extreme judges.
+double deepestInside(const World& world) {
+    std::vector<bench::MeshView> views;
+    for (BodyId id : world.bodies()) views.push_back({world.vertices(id), world.triangles(id)});
+    bench::InterpenetrationSettings s;
+    s.referenceSize = 1.0f;
+    return bench::measureInterpenetration(views, s).maxDepth;
+}
+
+} // namespace
 
 // 200 spheres (1 m across) created overlapping, at random points of a 10 m cube with random
 // rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).
@@ -47,23 +62,32 @@ TEST(KnownBugs, OverlappingSpheresRecover) {
     }
 }
 
-// Two single-cell spheres stacked exactly (same x and z, unrotated): the upper one's box
-// corners lie on the lower box's side planes, no node is strictly inside a box, and the
-// node-vs-box test finds no contact: the upper sphere sinks straight through the lower one.
-// Wanted: their centres stay at least 0.9 m apart. Offset by (0.2, 0.15) m they do
-// (tests/extreme LatticeOfASingleCell).
-TEST(KnownBugs, AlignedSingleCellBoxesCollide) {
-    World world;
-    BodySettings s;
-    s.lattice.targetCells = 1;
-    s.position = {0, 0.5f, 0};
-    const BodyId below = world.addBody(ball(), s);
-    s.position = {0, 1.7f, 0};
-    const BodyId above = world.addBody(ball(), s);
-    float closest = INFINITY;
-    for (int f = 0; f < 240; ++f) {
-        world.step();
-        closest = std::min(closest, length(world.centreOfMass(above) - world.centreOfMass(below)));
+// A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm (as
+// tests/extreme MassRatioOneToAThousand, which checks that both recover). Wanted: the heavy
+// sphere never more than 1 cm inside the light one (checked every 10th frame) and the light
+// one never thrown faster than 15 m/s. Today the contact split by mass leaves the light sphere
+// almost all of each correction: the heavy one crushes into it (18 cm at the 5 cm offset) and
+// shape matching then squeezes it out, at 18-37 m/s at four of the five offsets (docs/LIMITS.md).
+TEST(KnownBugs, HeavySphereDoesNotCrushALightOne) {
+    for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
+        SCOPED_TRACE("offset " + std::to_string(offset));
+        World world;
+        BodySettings s;
+        s.lattice.targetCells = 38;
+        s.position = {0, 0.5f, 0};
+        s.density = 10;
+        const BodyId light = world.addBody(ball(), s);
+        s.position = {offset, 1.52f, 0};
+        s.density = 10000;
+        world.addBody(ball(), s);
+        double deepest = 0;
+        float fastest = 0;
+        for (int f = 0; f < 300; ++f) {
+            world.step();
+            if (f % 10 == 0) deepest = std::max(deepest, deepestInside(world));
+            fastest = std::max(fastest, length(world.linearVelocity(light)));
+        }
+        EXPECT_LE(deepest, 0.01);
+        EXPECT_LT(fastest, 15.0f);
     }
-    EXPECT_GT(closest, 0.9f);
 }
