@@ -50,7 +50,7 @@ struct NodeBoxHit {
 /// Tests node p against the box (its 8 nodes, their AABB and its outside-face mask). The
 /// candidate faces within `tieTolerance` of the nearest way out, and no deeper than it, are
 /// reported as `tied`: at an edge or a corner of the box the nearest face is a near tie, which
-/// the caller may settle (preferFace).
+/// the caller may settle (settleTie).
 NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
                          Vec3 p, float skin, float tieTolerance = 0);
 

@@ -36,7 +36,7 @@ double deepestInside(const World& world) {
 // rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).
 // Wanted: after 1 s every sphere finite, slower than 10 m/s and within 20 m of where it
 // started. Today, with the default settings, the rigid impact phase turns the crushed spheres'
-// deformation speed into rigid motion: they leave at up to about 47 m/s. With
+// deformation speed into rigid motion: they leave at up to about 44 m/s. With
 // WorldSettings::maxSeparationSpeed set they separate gently (tests/extreme
 // OverlappingSpheresSeparateGentlyWithASeparationBound), but that bound is not the default
 // (docs/LIMITS.md, known problem 1).
