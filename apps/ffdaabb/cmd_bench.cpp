@@ -3,6 +3,7 @@
 // same machine conditions frame by frame), and the results are written as the paper's Table 1,
 // Table 2 and Fig. 4, beside the paper's own figures.
 #include "commands.h"
+#include "flags.h"
 #include "runner.h"
 
 #include "ffdaabb/error.h"
@@ -45,12 +46,21 @@ constexpr PaperRow kPaper[] = {
 // The paper reports "about 80-85 %" more frames per second with the enhanced method (Fig. 4).
 constexpr double kPaperRatio = 1.8;
 
-struct BenchOptions {
+// The command line as given: numbers as text, converted and checked by run().
+struct BenchFlags {
     std::string out = "bench-out";
+    std::string frames = "300", warmup = "60", objects;
+    CLI::Option* objectsOption = nullptr;
+    std::vector<std::string> scenes{"alphabets", "spheres", "teapots", "buddhas"};
+    bool quiet = false;
+};
+
+struct BenchOptions {
+    std::string out;
     int frames = 300;
     int warmup = 60;
-    std::vector<std::string> scenes{"alphabets", "spheres", "teapots", "buddhas"};
-    int objects = 0;
+    std::vector<std::string> scenes;
+    int objects = 0; // 0: the paper's counts
     bool quiet = false;
 };
 
@@ -287,11 +297,15 @@ std::string table2(const std::vector<SceneResult>& rs) {
     return md.str();
 }
 
-int run(const BenchOptions& o) {
-    if (o.frames < 1 || o.frames > 1000000)
-        throw InputError("--frames", "value " + std::to_string(o.frames) +
-                                         " is out of range (expected 1..1000000)");
-    if (o.warmup < 0) throw InputError("--warmup", "must be >= 0, got " + std::to_string(o.warmup));
+int run(const BenchFlags& flags) {
+    BenchOptions o;
+    o.frames = int(parseInteger("--frames", flags.frames, 1, 1000000));
+    o.warmup = int(parseInteger("--warmup", flags.warmup, 0, 10000000));
+    o.objects =
+        given(flags.objectsOption) ? int(parseInteger("--objects", flags.objects, 1, 100000)) : 0;
+    o.out = flags.out;
+    o.scenes = flags.scenes;
+    o.quiet = flags.quiet;
     namespace fs = std::filesystem;
     const fs::path out(o.out);
     if (fs::exists(out) && !fs::is_directory(out))
@@ -381,18 +395,20 @@ int run(const BenchOptions& o) {
 } // namespace
 
 void addBenchCommand(CLI::App& app, Action& action) {
-    auto o = std::make_shared<BenchOptions>();
+    auto o = std::make_shared<BenchFlags>();
     CLI::App* cmd = app.add_subcommand(
         "bench",
         "Reproduce the paper's Tables 1-2 and Fig. 4 (previous vs enhanced, side by side)");
     cmd->add_option("--out", o->out,
                     "Folder for table1.md/.csv, table2.md, fig4.csv/.png, summary.json");
-    cmd->add_option("--frames", o->frames, "Timed frames per scene and mode (default 300)");
-    cmd->add_option("--warmup", o->warmup, "Untimed frames first (default 60)");
+    cmd->add_option("--frames", o->frames,
+                    "Timed frames per scene and mode, 1..1000000 (default 300)");
+    cmd->add_option("--warmup", o->warmup, "Untimed frames first, 0..10000000 (default 60)");
     cmd->add_option("--scenes", o->scenes,
                     "Scenes to run (default: alphabets spheres teapots buddhas)")
         ->delimiter(',');
-    cmd->add_option("--objects", o->objects, "Objects per scene (default: the paper's counts)");
+    o->objectsOption = cmd->add_option(
+        "--objects", o->objects, "Objects per scene, 1..100000 (default: the paper's counts)");
     cmd->add_flag("--quiet", o->quiet, "No progress and no summary");
     cmd->callback([o, &action] { action = [o] { return run(*o); }; });
 }

@@ -1,6 +1,7 @@
 // ffdaabb render / view: a scene to images or video (headless, EGL), or in a window with
 // controls (GLFW + Dear ImGui). Thin layers over ffdaabb_render.
 #include "commands.h"
+#include "flags.h"
 #include "runner.h"
 
 #include "ffdaabb/error.h"
@@ -19,14 +20,46 @@ namespace ffd::cli {
 
 namespace {
 
+// The command line as given: numbers as text, converted and checked by parseValues.
 struct RenderCommandOptions {
-    std::string scene, mode, out, overlay, camera;
-    int objects = 0, frames = 120, width = 1280, height = 720, steps = 1;
-    long long seed = -1;
-    float fps = 60, azimuth = 30, elevation = 20, fov = 40;
+    SceneFlags scene;
+    std::string out, overlay, camera;
+    std::string frames = "120", width = "1280", height = "720", steps = "1";
+    std::string fps = "60", azimuth = "30", elevation = "20", fov = "40";
     std::string screenshot;
     bool paused = false, quiet = false;
 };
+
+// The smallest image (render) or window (view: the viewer's own minimum) and the largest.
+int minSize(bool view) {
+    return view ? 64 : 16;
+}
+constexpr int kMaxSize = 8192;
+
+// The numeric flags, converted.
+struct RenderValues {
+    int frames = 0, width = 0, height = 0, steps = 0;
+    float fps = 0, azimuth = 0, elevation = 0, fov = 0;
+};
+
+// Every numeric flag of render (`view` false) or view, checked before anything is loaded or
+// opened: InputError naming the flag, the value and the range.
+RenderValues parseValues(const RenderCommandOptions& o, bool view) {
+    RenderValues v;
+    v.width = int(parseInteger("--width", o.width, minSize(view), kMaxSize));
+    v.height = int(parseInteger("--height", o.height, minSize(view), kMaxSize));
+    v.steps = int(parseInteger("--steps", o.steps, 1, 1000));
+    v.azimuth = float(parseNumber("--azimuth", o.azimuth, -360, 360, "degrees, -360..360"));
+    v.elevation = float(parseNumber("--elevation", o.elevation, -90, 90, "degrees, -90..90"));
+    v.fov = float(parseNumber("--fov", o.fov, 1, 170, "degrees, 1..170"));
+    if (view) {
+        v.frames = int(parseInteger("--frames", o.frames, 0, 10000000));
+    } else {
+        v.frames = int(parseInteger("--frames", o.frames, 1, 100000));
+        v.fps = float(parseNumber("--fps", o.fps, 1, 1000, "frames per second, 1..1000"));
+    }
+    return v;
+}
 
 #ifdef FFD_HAVE_RENDER
 
@@ -79,35 +112,18 @@ std::optional<render::Camera> parseCamera(const std::string& text, float fov) {
     return c;
 }
 
-void checkCommon(const RenderCommandOptions& o) {
-    if (o.width < 16 || o.width > 8192 || o.height < 16 || o.height > 8192)
-        throw InputError(
-            "--width/--height",
-            fmt::format("{}x{} is out of range (expected 16..8192 each)", o.width, o.height));
-    if (!(o.fov > 1 && o.fov < 170))
-        throw InputError("--fov",
-                         fmt::format("{} is out of range (expected 1..170 degrees)", o.fov));
-    if (o.steps < 1 || o.steps > 1000)
-        throw InputError("--steps", fmt::format("{} is out of range (expected 1..1000)", o.steps));
-}
-
 int runRender(const RenderCommandOptions& o) {
-    checkCommon(o);
+    const RenderValues v = parseValues(o, false);
     if (o.out.empty())
         throw InputError("--out", "missing (expected FILE.mp4, a folder, or name_%04d.png)");
-    if (o.frames < 1 || o.frames > 100000)
-        throw InputError("--frames",
-                         fmt::format("{} is out of range (expected 1..100000)", o.frames));
-    if (!(o.fps > 0 && o.fps <= 1000))
-        throw InputError("--fps", fmt::format("{} is out of range (expected 0..1000)", o.fps));
-    const Scene scene = sceneFromOptions(o.scene, o.objects, o.mode, -1, o.seed);
     render::RenderSettings s;
-    s.width = o.width, s.height = o.height, s.frames = o.frames, s.stepsPerFrame = o.steps;
-    s.fps = o.fps;
-    s.camera = parseCamera(o.camera, o.fov);
-    s.framing.azimuthDegrees = o.azimuth, s.framing.elevationDegrees = o.elevation;
-    s.framing.fovYDegrees = o.fov;
+    s.width = v.width, s.height = v.height, s.frames = v.frames, s.stepsPerFrame = v.steps;
+    s.fps = v.fps;
+    s.camera = parseCamera(o.camera, v.fov);
+    s.framing.azimuthDegrees = v.azimuth, s.framing.elevationDegrees = v.elevation;
+    s.framing.fovYDegrees = v.fov;
     s.draw.overlays = parseOverlays(o.overlay);
+    const Scene scene = sceneFromFlags(o.scene);
     if (!o.quiet) s.progress = progressBar(scene.name);
     const render::RenderStats r = renderFrames([&] { return buildScene(scene).world; }, s, o.out);
     if (!o.quiet)
@@ -120,22 +136,22 @@ int runRender(const RenderCommandOptions& o) {
 }
 
 int runView(const RenderCommandOptions& o) {
-    checkCommon(o);
-    if (o.frames < 0) throw InputError("--frames", fmt::format("{} must be >= 0", o.frames));
-    if (!o.screenshot.empty() && o.frames == 0)
-        throw InputError("--screenshot", "needs --frames N (the frame to capture)");
-    const Scene scene = sceneFromOptions(o.scene, o.objects, o.mode, -1, o.seed);
+    // Every flag is checked before any window is opened; the numeric ones before the scene loads.
+    const RenderValues v = parseValues(o, true);
     render::ViewerSettings s;
-    s.width = o.width, s.height = o.height;
-    s.title = "ffdaabb: " + scene.name;
+    s.width = v.width, s.height = v.height;
     s.startPaused = o.paused;
-    s.stepsPerFrame = o.steps;
-    s.camera = parseCamera(o.camera, o.fov);
-    s.framing.azimuthDegrees = o.azimuth, s.framing.elevationDegrees = o.elevation;
-    s.framing.fovYDegrees = o.fov;
+    s.stepsPerFrame = v.steps;
+    s.camera = parseCamera(o.camera, v.fov);
+    s.framing.azimuthDegrees = v.azimuth, s.framing.elevationDegrees = v.elevation;
+    s.framing.fovYDegrees = v.fov;
     s.draw.overlays = parseOverlays(o.overlay);
-    s.frames = o.frames;
+    s.frames = v.frames;
     s.screenshot = o.screenshot;
+    const Scene scene = sceneFromFlags(o.scene);
+    if (!o.screenshot.empty() && v.frames == 0)
+        throw InputError("--screenshot", "needs --frames N (the frame to capture)");
+    s.title = "ffdaabb: " + scene.name;
     // "Drop more objects": five more of the scene's first kind, above the highest body.
     int dropped = 0;
     s.dropObjects = [&scene, &dropped](World& world) {
@@ -152,7 +168,7 @@ int runView(const RenderCommandOptions& o) {
         }
     };
     const render::ViewerResult r = render::runViewer([&] { return buildScene(scene).world; }, s);
-    if (!o.quiet && o.frames > 0)
+    if (!o.quiet && v.frames > 0)
         fmt::print("{} frames ({} steps), state hash {:016x}{}\n", r.frames, r.steps, r.stateHash,
                    o.screenshot.empty() ? "" : ", screenshot " + o.screenshot);
     return 0;
@@ -160,7 +176,8 @@ int runView(const RenderCommandOptions& o) {
 
 #else
 
-int unavailable(const RenderCommandOptions&) {
+int unavailable(const RenderCommandOptions& o, bool view) {
+    parseValues(o, view); // a bad flag is reported as such in every build
     throw InputError("ffdaabb",
                      "this build has no rendering (configure with -DFFD_BUILD_RENDER=ON and "
                      "the packages from scripts/setup.sh)");
@@ -168,24 +185,28 @@ int unavailable(const RenderCommandOptions&) {
 
 #endif
 
-void addCommonOptions(CLI::App* cmd, RenderCommandOptions& o) {
-    cmd->add_option("--scene", o.scene, "Scene name or .json file")->required();
-    cmd->add_option("--objects", o.objects, "Total number of objects (default: the scene's)");
-    cmd->add_option("--mode", o.mode, "Collision mode: enhanced, previous, brute or none");
-    cmd->add_option("--seed", o.seed, "Layout seed (default: the scene's)");
-    cmd->add_option("--width", o.width, "Image or window width in pixels (default 1280)");
-    cmd->add_option("--height", o.height, "Image or window height in pixels (default 720)");
-    cmd->add_option("--steps", o.steps, "Simulation frames per displayed frame (default 1)");
+void addCommonOptions(CLI::App* cmd, RenderCommandOptions& o, bool view) {
+    addSceneFlags(cmd, o.scene, false);
+    const char* what = view ? "Window" : "Image";
+    cmd->add_option(
+        "--width", o.width,
+        fmt::format("{} width in pixels, {}..{} (default 1280)", what, minSize(view), kMaxSize));
+    cmd->add_option(
+        "--height", o.height,
+        fmt::format("{} height in pixels, {}..{} (default 720)", what, minSize(view), kMaxSize));
+    cmd->add_option("--steps", o.steps,
+                    "Simulation frames per displayed frame, 1..1000 (default 1)");
     cmd->add_option(
         "--overlay", o.overlay,
         "Comma-separated overlays: spheres (bounding spheres), boxes (FFD-AABB), lattice, "
         "contacts, all");
     cmd->add_option("--camera", o.camera,
                     "Fixed camera ex,ey,ez:tx,ty,tz (default: framed automatically)");
-    cmd->add_option("--azimuth", o.azimuth, "Automatic framing: azimuth in degrees (default 30)");
+    cmd->add_option("--azimuth", o.azimuth,
+                    "Automatic framing: azimuth in degrees, -360..360 (default 30)");
     cmd->add_option("--elevation", o.elevation,
-                    "Automatic framing: elevation in degrees (default 20)");
-    cmd->add_option("--fov", o.fov, "Vertical field of view in degrees (default 40)");
+                    "Automatic framing: elevation in degrees, -90..90 (default 20)");
+    cmd->add_option("--fov", o.fov, "Vertical field of view in degrees, 1..170 (default 40)");
     cmd->add_flag("--quiet", o.quiet, "No progress and no summary");
 }
 
@@ -195,26 +216,27 @@ void addRenderCommands(CLI::App& app, Action& action) {
     auto o = std::make_shared<RenderCommandOptions>();
     CLI::App* render = app.add_subcommand(
         "render", "Render a scene to an MP4 video or a PNG sequence, headless (EGL)");
-    addCommonOptions(render, *o);
-    render->add_option("--frames", o->frames, "Images to produce (default 120)");
+    addCommonOptions(render, *o, false);
+    render->add_option("--frames", o->frames, "Images to produce, 1..100000 (default 120)");
     render->add_option("--out", o->out,
                        "FILE.mp4, a folder (frame_00000.png ...), or name_%04d.png");
-    render->add_option("--fps", o->fps, "Video frame rate (default 60)");
+    render->add_option("--fps", o->fps, "Video frame rate, 1..1000 (default 60)");
     auto v = std::make_shared<RenderCommandOptions>();
-    v->frames = 0;
+    v->frames = "0";
     CLI::App* view = app.add_subcommand(
         "view",
         "Interactive viewer (GLFW + Dear ImGui): play, step, modes, overlays, drag objects");
-    addCommonOptions(view, *v);
-    view->add_option("--frames", v->frames, "Scripted: close after N frames (0: run until closed)");
+    addCommonOptions(view, *v, true);
+    view->add_option("--frames", v->frames,
+                     "Scripted: close after N frames, 0..10000000 (default 0: run until closed)");
     view->add_option("--screenshot", v->screenshot, "Scripted: save the last frame to this PNG");
     view->add_flag("--paused", v->paused, "Start paused");
 #ifdef FFD_HAVE_RENDER
     render->callback([o, &action] { action = [o] { return runRender(*o); }; });
     view->callback([v, &action] { action = [v] { return runView(*v); }; });
 #else
-    render->callback([o, &action] { action = [o] { return unavailable(*o); }; });
-    view->callback([v, &action] { action = [v] { return unavailable(*v); }; });
+    render->callback([o, &action] { action = [o] { return unavailable(*o, false); }; });
+    view->callback([v, &action] { action = [v] { return unavailable(*v, true); }; });
 #endif
 }
 

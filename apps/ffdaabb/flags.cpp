@@ -61,7 +61,7 @@ double parseNumber(const std::string& flag, const std::string& text, double lo, 
     return value;
 }
 
-void addSceneFlags(CLI::App* cmd, SceneFlags& f) {
+void addSceneFlags(CLI::App* cmd, SceneFlags& f, bool threads) {
     cmd->add_option("--scene", f.scene,
                     "Scene name (alphabets, spheres, teapots, buddhas) or a .json file")
         ->required();
@@ -69,8 +69,9 @@ void addSceneFlags(CLI::App* cmd, SceneFlags& f) {
                                       "Total number of objects, 1..100000 (default: the scene's)");
     f.modeOption =
         cmd->add_option("--mode", f.mode, "Collision mode: enhanced, previous, brute or none");
-    f.threadsOption = cmd->add_option("--threads", f.threads,
-                                      "Worker threads, 0 (all cores)..1024 (default: the scene's)");
+    if (threads)
+        f.threadsOption = cmd->add_option(
+            "--threads", f.threads, "Worker threads, 0 (all cores)..1024 (default: the scene's)");
     f.seedOption =
         cmd->add_option("--seed", f.seed, "Layout seed, 0..2147483647 (default: the scene's)");
 }

@@ -1,6 +1,6 @@
 // Flag values the subcommands read as text and convert here, so that a bad value gets a message
 // naming the flag, the value and what was expected (CLI11's own conversion only says "Could not
-// convert"), and shared checks of the scene and output-file flags of run and soak.
+// convert"), and shared checks of the scene flags (run, soak, render, view) and output-file flags.
 #pragma once
 
 #include "ffdaabb/scene.h"
@@ -25,15 +25,16 @@ inline bool given(const CLI::Option* option) {
     return option && option->count() > 0;
 }
 
-/// --scene, --objects, --mode, --threads and --seed, as run and soak take them.
+/// --scene, --objects, --mode, --threads and --seed, as run and soak take them (render and view
+/// take all but --threads).
 struct SceneFlags {
     std::string scene, objects, mode, threads, seed;
     CLI::Option *objectsOption = nullptr, *modeOption = nullptr, *threadsOption = nullptr,
                 *seedOption = nullptr;
 };
 
-/// Adds the scene flags to `cmd`; `flags` must outlive the parse.
-void addSceneFlags(CLI::App* cmd, SceneFlags& flags);
+/// Adds the scene flags to `cmd` (--threads only when `threads`); `flags` must outlive the parse.
+void addSceneFlags(CLI::App* cmd, SceneFlags& flags, bool threads = true);
 
 /// Loads the scene and applies the flags that were given, each checked (InputError naming it).
 Scene sceneFromFlags(const SceneFlags& flags);

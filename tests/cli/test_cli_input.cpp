@@ -1,6 +1,6 @@
-// Bad command lines for mesh-info, run and soak: each ends with exit status 2 and one message
-// naming the flag (or file), the value and what was expected; outputs are never left behind by
-// a run that fails or is killed.
+// Bad command lines for mesh-info, run, soak, bench, render and view: each ends with exit status 2
+// and one message naming the flag (or file), the value and what was expected; outputs are never
+// left behind by a run that fails or is killed.
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -22,10 +22,15 @@ namespace fs = std::filesystem;
 namespace {
 
 // Runs the CLI and expects exit status 2 with every part in stderr and nothing on stdout.
-void expectBadInput(const std::vector<std::string>& args, const std::vector<std::string>& parts) {
+// `noDisplay`: with DISPLAY and WAYLAND_DISPLAY unset, for commands that would open a window.
+void expectBadInput(const std::vector<std::string>& args, const std::vector<std::string>& parts,
+                    bool noDisplay = false) {
     std::string line;
     for (const std::string& a : args) line += a + " ";
-    const RunResult r = runCli(args);
+    std::vector<std::string> command = {
+        "env", "-u", "DISPLAY", "-u", "WAYLAND_DISPLAY", cliPath().string()};
+    command.insert(command.end(), args.begin(), args.end());
+    const RunResult r = noDisplay ? runProgram(command) : runCli(args);
     EXPECT_EQ(r.status, 2) << line << "\n" << r.err;
     EXPECT_EQ(r.out, "") << line;
     for (const std::string& p : parts)
@@ -300,4 +305,100 @@ TEST(CliInput, SoakFlags) {
     expectBadInput({"soak", "--scene", "spheres", "--settle-time", "-1"}, {"--settle-time"});
     expectBadInput({"soak", "--scene", "spheres", "--threads", "-2"}, {"--threads", "-2"});
     expectBadInput({"soak"}, {"--scene"});
+}
+
+TEST(CliInput, BenchFlags) {
+    TempDir dir;
+    const std::string out = (dir / "b").string();
+    const auto bench = [&](std::vector<std::string> flag) {
+        std::vector<std::string> args = {"bench", "--scenes", "spheres", "--quiet", "--out", out};
+        args.insert(args.end(), flag.begin(), flag.end());
+        return args;
+    };
+    expectBadInput(bench({"--frames", "abc"}),
+                   {"--frames", "\"abc\"", "not a whole number", "1..1000000"});
+    expectBadInput(bench({"--frames", "0"}), {"--frames", "value 0", "1..1000000"});
+    expectBadInput(bench({"--frames", "-1"}), {"--frames", "-1", "1..1000000"});
+    expectBadInput(bench({"--frames", "1000001"}), {"--frames", "1000001", "out of range"});
+    expectBadInput(bench({"--frames", "2.5"}), {"--frames", "\"2.5\""});
+    expectBadInput(bench({"--warmup", "-1"}), {"--warmup", "-1", "0..10000000"});
+    expectBadInput(bench({"--warmup", "x"}), {"--warmup", "\"x\"", "not a whole number"});
+    expectBadInput(bench({"--objects", "0"}), {"--objects", "value 0", "1..100000"});
+    expectBadInput(bench({"--objects", "many"}), {"--objects", "\"many\"", "1..100000"});
+    expectBadInput(bench({"--objects", ""}), {"--objects", "\"\""});
+    // Nothing is written for a bad flag.
+    EXPECT_FALSE(fs::exists(dir / "b"));
+}
+
+TEST(CliInput, RenderFlags) {
+    TempDir dir;
+    const std::string out = (dir / "r.mp4").string();
+    struct Case {
+        std::vector<std::string> flag;
+        std::vector<std::string> parts;
+    };
+    const std::vector<Case> cases = {
+        {{"--width", "-5"}, {"--width", "-5", "16..8192"}},
+        {{"--width", "abc"}, {"--width", "\"abc\"", "not a whole number", "16..8192"}},
+        {{"--width", "5"}, {"--width", "value 5", "16..8192"}},
+        {{"--height", "100000"}, {"--height", "100000", "16..8192"}},
+        {{"--height", "7.5"}, {"--height", "\"7.5\""}},
+        {{"--fov", "200"}, {"--fov", "200", "out of range", "1..170"}},
+        {{"--fov", "0"}, {"--fov", "\"0\"", "1..170"}},
+        {{"--fov", "wide"}, {"--fov", "\"wide\"", "not a number"}},
+        {{"--fps", "abc"}, {"--fps", "\"abc\"", "not a number", "1..1000"}},
+        {{"--fps", "0"}, {"--fps", "\"0\"", "1..1000"}},
+        {{"--fps", "inf"}, {"--fps", "inf"}},
+        {{"--frames", "0"}, {"--frames", "value 0", "1..100000"}},
+        {{"--frames", "abc"}, {"--frames", "\"abc\"", "not a whole number"}},
+        {{"--steps", "0"}, {"--steps", "value 0", "1..1000"}},
+        {{"--azimuth", "nan"}, {"--azimuth", "nan", "-360..360"}},
+        {{"--azimuth", "361"}, {"--azimuth", "361", "-360..360"}},
+        {{"--elevation", "91"}, {"--elevation", "91", "-90..90"}},
+        {{"--elevation", "up"}, {"--elevation", "\"up\""}},
+        {{"--objects", "0"}, {"--objects", "value 0", "1..100000"}},
+        {{"--objects", "x"}, {"--objects", "\"x\""}},
+        {{"--seed", "-1"}, {"--seed", "-1", "0..2147483647"}},
+        {{"--mode", "fast"}, {"--mode", "\"fast\""}},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = {"render", "--scene", "spheres", "--quiet", "--out", out};
+        args.insert(args.end(), c.flag.begin(), c.flag.end());
+        expectBadInput(args, c.parts);
+    }
+    // Reported even when the scene is bad too; render has no --threads.
+    expectBadInput({"render", "--scene", "no-such-scene", "--out", out, "--fps", "x"}, {"--fps"});
+    expectBadInput({"render", "--scene", "spheres", "--out", out, "--threads", "2"}, {"--threads"});
+    // Nothing is written for a bad flag.
+    EXPECT_TRUE(listing(dir.path()).empty());
+}
+
+TEST(CliInput, ViewFlagsAreCheckedBeforeAnyWindow) {
+    // No display: a bad flag must be reported before the viewer opens a window.
+    TempDir dir;
+    const std::string shot = (dir / "shot.png").string();
+    struct Case {
+        std::vector<std::string> flag;
+        std::vector<std::string> parts;
+    };
+    const std::vector<Case> cases = {
+        {{"--frames", "-1"}, {"--frames", "-1", "0..10000000"}},
+        {{"--frames", "abc"}, {"--frames", "\"abc\"", "not a whole number"}},
+        {{"--width", "-5"}, {"--width", "-5", "64..8192"}},
+        {{"--width", "32"}, {"--width", "value 32", "64..8192"}}, // the viewer's minimum
+        {{"--height", "0"}, {"--height", "value 0", "64..8192"}},
+        {{"--fov", "200"}, {"--fov", "200", "1..170"}},
+        {{"--steps", "x"}, {"--steps", "\"x\""}},
+        {{"--elevation", "-100"}, {"--elevation", "-100", "-90..90"}},
+        {{"--seed", "abc"}, {"--seed", "\"abc\""}},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = {"view",    "--scene",      "spheres",
+                                         "--quiet", "--screenshot", shot};
+        args.insert(args.end(), c.flag.begin(), c.flag.end());
+        expectBadInput(args, c.parts, true);
+    }
+    // The view takes no --fps.
+    expectBadInput({"view", "--scene", "spheres", "--fps", "30"}, {"--fps"}, true);
+    EXPECT_FALSE(fs::exists(shot));
 }
