@@ -97,6 +97,10 @@ struct WorldSettings {
     /// without it, deformation speed of crushed bodies is turned into rigid motion and throws
     /// them apart at tens of m/s. Costs a wedged light body its way out (docs/LIMITS.md).
     float maxSeparationSpeed = 0.0f;
+    /// Overlap deeper than the contact skin is pushed out by at most the skin plus this speed
+    /// (m/s) times the substep per substep, by moving positions, without adding velocity
+    /// (bodies created overlapping separate gently). 1e4: out at once (the behaviour before).
+    float pushOutSpeed = 1.0f;
 };
 
 /// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of

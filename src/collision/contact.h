@@ -58,6 +58,9 @@ struct Contact {
     float restitution = 0;
     float rigidity = 0; ///< share of the approach the rigid phase removes, [0, 1]
     float distance = 0; ///< signed distance to B's exit face (the floor) when detected
+    /// Overlap (<= 0) the projections leave in this substep: for a deep contact, what lies
+    /// beyond the push-out depth (pipeline.cpp); 0 otherwise. Deep contacts skip the rigid phase.
+    float tolerated = 0;
     bool hasB = false;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
@@ -113,7 +116,8 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states);
 
-/// Step 1: for impacts (approaching faster than impactThreshold), removes the share `rigidity`
+/// Step 1: for impacts (approaching faster than impactThreshold; deep contacts, with
+/// `tolerated` < 0, are never impacts), removes the share `rigidity`
 /// of the approach beyond what the contact may close in this substep (speculative bound),
 /// through the bodies' rigid modes (normal impulses only), then applies the change to the
 /// bodies' particles. maxSeparationSpeed > 0 bounds how fast the phase may push two bodies'
@@ -134,8 +138,8 @@ struct SolverScratch {
     std::vector<uint32_t> active;
 };
 
-/// Steps 0 and 2: Gauss-Seidel position projection; velocities follow the corrections unless
-/// `v` is empty (pre-stabilisation).
+/// Steps 0 and 2: Gauss-Seidel position projection of C >= tolerated; velocities follow the
+/// corrections unless `v` is empty (pre-stabilisation).
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations,
                            size_t bodyCount, SolverScratch& scratch);

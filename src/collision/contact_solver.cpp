@@ -108,7 +108,9 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
-        if (!(rigidityOf(c) > 0)) continue;
+        // A deep contact's approach is its bodies restoring the dent the last push-out left:
+        // read as an impact, it would be turned into rigid motion (pipeline.cpp, push-out).
+        if (c.tolerated < 0 || !(rigidityOf(c) > 0)) continue;
         impacts.push_back(uint32_t(k));
         states[c.bodyA].active = true;
         if (c.hasB) states[c.bodyB].active = true;
@@ -211,7 +213,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
     auto sweep = [&](Contact& c) {
         const Vec3 pa = blend(c.a, x);
         const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-        const float C = dot(pa - pb, c.normal) - c.offset;
+        const float C = dot(pa - pb, c.normal) - c.offset - c.tolerated;
         const float W = c.invMassA + c.invMassB;
         if (C >= 0 || !(W > 0)) return C;
         const float lambda = -C / W;
