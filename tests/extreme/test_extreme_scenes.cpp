@@ -102,8 +102,8 @@ TEST(ExtremeScenes, DroppedAtFiftyMetresPerSecond) {
     EXPECT_LT(fastestBody(world), 5.0f);
 }
 
-// 200 spheres created overlapping in one spot: see tests/known_bugs (the collision response
-// turns deep initial overlaps into velocities of tens of m/s; docs/LIMITS.md).
+// 200 spheres created overlapping: see tests/known_bugs (they still leave at up to 20 m/s) and
+// CreatedOverlappingArePushedOutGently below (one or two bodies); docs/LIMITS.md.
 
 // A letter 1 m tall extruded only 1 mm deep: one lying flat on the floor, a second dropped flat
 // onto it from 0.5 m, a third dropped standing on its edge; 5 s simulated.
@@ -146,9 +146,9 @@ TEST(ExtremeScenes, LetterOneMillimetreThick) {
 // Criteria, every offset: every frame finite and no vertex more than 1 cm below the floor (the
 // light sphere is not pressed through the floor); after 10 s no vertex inside another body
 // deeper than 1 cm, both heavy spheres at rest (slower than 0.1 m/s) and the total mechanical
-// energy below the start's (nothing gained). On the way the heavy sphere crushes into the
-// light one and squeezes it out at high speed: tests/known_bugs HeavySphereDoesNotCrushALight
-// One (docs/LIMITS.md).
+// energy below the start's (nothing gained). On the way the heavy sphere presses the light one
+// and squeezes it out at high speed: tests/known_bugs HeavySphereDoesNotCrushALightOne
+// (docs/LIMITS.md).
 TEST(ExtremeScenes, MassRatioOneToAThousand) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));
