@@ -97,10 +97,12 @@ struct WorldSettings {
     /// without it, deformation speed of crushed bodies is turned into rigid motion and throws
     /// them apart at tens of m/s. Costs a wedged light body its way out (docs/LIMITS.md).
     float maxSeparationSpeed = 0.0f;
-    /// Overlap deeper than the contact skin is pushed out by at most the skin plus this speed
-    /// (m/s) times the substep per substep, by moving positions, without adding velocity
-    /// (bodies created overlapping separate gently). 1e4: out at once (the behaviour before).
-    float pushOutSpeed = 1.0f;
+    /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
+    /// overlap deeper than the contact skin is pushed out by at most the skin plus this speed
+    /// times the substep per substep, by moving positions, without adding velocity: bodies
+    /// created overlapping or in the floor leave at a few m/s instead of tens. Costs the
+    /// alphabets scene about a third more time per frame (docs/ALGORITHM.md, "Push-out").
+    float pushOutSpeed = 0.0f;
 };
 
 /// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of

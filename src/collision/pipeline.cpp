@@ -36,14 +36,15 @@ float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
     return skinOf(w, b) + w.substep * relativeSpeedBound(a, b);
 }
 
-// Push-out of deep overlap. A contact deeper than the skin plus WorldSettings::pushOutSpeed x
-// substep (bodies created overlapping, a body crushed under a pile) is not projected out at
-// once: the projections leave the rest (Contact::tolerated), so each substep removes at most
-// that much of it, by moving positions, and the rigid phase leaves the contact out. Removed
-// at once, the overlap became a dent that shape matching restored at depth / substep, and the
-// rigid phase turned that speed into rigid motion: 200 overlapping spheres left at 44 m/s,
-// two spheres created 5 cm into each other at 8 m/s (docs/ALGORITHM.md, "Push-out").
+// Push-out of deep overlap (when WorldSettings::pushOutSpeed > 0). A contact deeper than the skin
+// plus WorldSettings::pushOutSpeed x substep (bodies created overlapping, a body crushed under a
+// pile) is not projected out at once: the projections leave the rest (Contact::tolerated), so each
+// substep removes at most that much of it, by moving positions, and the rigid phase leaves the
+// contact out. Removed at once, the overlap became a dent that shape matching restored at depth /
+// substep, and the rigid phase turned that speed into rigid motion: 200 overlapping spheres left at
+// 44 m/s, two spheres created 5 cm into each other at 8 m/s (docs/ALGORITHM.md, "Push-out").
 float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance) {
+    if (w.settings.pushOutSpeed == 0) return 0.0f;
     const float depth = skinOf(w, b) + w.settings.pushOutSpeed * w.substep;
     return distance < -depth ? distance + depth : 0.0f;
 }

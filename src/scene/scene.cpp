@@ -187,7 +187,7 @@ void readWorld(Fields f, WorldSettings& w) {
     f.integer("threads", w.threads, 0, 1024, "0 (all cores)..1024");
     f.integer("sweep_threshold", w.sweepThreshold, 0, 1000000000, ">= 0");
     f.number("max_separation_speed", w.maxSeparationSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
-    f.number("push_out_speed", w.pushOutSpeed, 0.0, 1e4, "0..1e4 m/s");
+    f.number("push_out_speed", w.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
     f.finish();
 }
 

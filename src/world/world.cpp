@@ -165,7 +165,7 @@ void validate(const WorldSettings& s) {
     requireRange("world.sweepThreshold", s.sweepThreshold, 0, 1e9, ">= 0");
     requireRange("world.maxSeparationSpeed", s.maxSeparationSpeed, 0.0, 1e4,
                  "0 (no bound)..1e4 m/s");
-    requireRange("world.pushOutSpeed", s.pushOutSpeed, 0.0, 1e4, "0..1e4 m/s");
+    requireRange("world.pushOutSpeed", s.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
     if (s.mode != CollisionMode::Enhanced && s.mode != CollisionMode::Previous &&
         s.mode != CollisionMode::Brute && s.mode != CollisionMode::None)
         throw InputError("world.mode", "unknown collision mode");

@@ -35,10 +35,9 @@ double deepestInside(const World& world) {
 // 200 spheres (1 m across) created overlapping, at random points of a 10 m cube with random
 // rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).
 // Wanted: after 1 s every sphere finite, slower than 10 m/s and within 20 m of where it
-// started. Today, with the default settings, the push-out bounds how fast deep overlap is
-// removed, but the rigid impact phase still turns the crushed spheres' deformation speed at the
-// overlaps' rims into rigid motion: they leave at up to about 20 m/s (44 before the push-out).
-// With WorldSettings::maxSeparationSpeed set they separate gently (tests/extreme
+// started. Today, with the default settings, the rigid impact phase turns the crushed spheres'
+// deformation speed into rigid motion: they leave at up to about 44 m/s. With
+// WorldSettings::maxSeparationSpeed set they separate gently (tests/extreme
 // OverlappingSpheresSeparateGentlyWithASeparationBound), but that bound is not the default
 // (docs/LIMITS.md, known problem 1).
 TEST(KnownBugs, OverlappingSpheresRecover) {
@@ -67,9 +66,8 @@ TEST(KnownBugs, OverlappingSpheresRecover) {
 // tests/extreme MassRatioOneToAThousand, which checks that both recover). Wanted: the heavy
 // sphere never more than 1 cm inside the light one (checked every 10th frame) and the light
 // one never thrown faster than 15 m/s. Today the contact split by mass leaves the light sphere
-// almost all of each correction and shape matching squeezes it out sideways at up to 22 m/s
-// (offset 3 cm; 15.03 m/s at 7 cm). The depth criterion holds at every offset since the
-// push-out (before: 18 cm at the 5 cm offset) (docs/LIMITS.md).
+// almost all of each correction: the heavy one crushes into it (18 cm at the 5 cm offset) and
+// shape matching then squeezes it out, at 18-37 m/s at four of the five offsets (docs/LIMITS.md).
 TEST(KnownBugs, HeavySphereDoesNotCrushALightOne) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));

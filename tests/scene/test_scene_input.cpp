@@ -160,7 +160,7 @@ TEST(SceneInput, OutOfRangeValuesNameTheRange) {
          {"world.max_separation_speed", "-1", "0 (no bound)..1e4 m/s"}},
         {"",
          ", \"world\": {\"push_out_speed\": 2e4}",
-         {"world.push_out_speed", "20000", "0..1e4 m/s"}},
+         {"world.push_out_speed", "20000", "0 (no bound)..1e4 m/s"}},
         {"", ", \"layout\": {\"spacing\": 0}", {"layout.spacing", "> 0"}},
         {"", ", \"layout\": {\"jitter\": 0.9}", {"layout.jitter", "0..0.5"}},
         {"", ", \"layout\": {\"seed\": -1}", {"layout.seed", "0..2147483647"}},
