@@ -40,6 +40,22 @@ void expectBadInput(const std::vector<std::string>& args, const std::vector<std:
     EXPECT_LT(std::count(r.err.begin(), r.err.end(), '\n'), 3) << line << "\n" << r.err;
 }
 
+// One bad flag value and the parts its message must contain.
+struct BadFlag {
+    std::vector<std::string> flag;
+    std::vector<std::string> parts;
+};
+
+// Runs `command` with each case's flag appended; each must be refused as expectBadInput says.
+void expectEachBadFlag(const std::vector<std::string>& command, const std::vector<BadFlag>& cases,
+                       bool noDisplay = false) {
+    for (const BadFlag& c : cases) {
+        std::vector<std::string> args = command;
+        args.insert(args.end(), c.flag.begin(), c.flag.end());
+        expectBadInput(args, c.parts, noDisplay);
+    }
+}
+
 // The files in a folder, by name.
 std::vector<std::string> listing(const fs::path& dir) {
     std::vector<std::string> names;
@@ -147,11 +163,7 @@ TEST(CliInput, MeshInfoFlags) {
 }
 
 TEST(CliInput, RunNumericFlags) {
-    struct Case {
-        std::vector<std::string> flag;
-        std::vector<std::string> parts;
-    };
-    const std::vector<Case> cases = {
+    const std::vector<BadFlag> cases = {
         {{"--frames", "abc"}, {"--frames", "\"abc\"", "not a whole number", "1..10000000"}},
         {{"--frames", "0"}, {"--frames", "value 0", "1..10000000"}},
         {{"--frames", "-5"}, {"--frames", "-5"}},
@@ -171,11 +183,7 @@ TEST(CliInput, RunNumericFlags) {
         {{"--mode", "fast"}, {"--mode", "\"fast\"", "enhanced, previous, brute or none"}},
         {{"--mode", ""}, {"--mode", "\"\""}},
     };
-    for (const Case& c : cases) {
-        std::vector<std::string> args = {"run", "--scene", "spheres", "--quiet"};
-        args.insert(args.end(), c.flag.begin(), c.flag.end());
-        expectBadInput(args, c.parts);
-    }
+    expectEachBadFlag({"run", "--scene", "spheres", "--quiet"}, cases);
     // Missing values, unknown flags, repeated flags, a missing --scene.
     expectBadInput({"run", "--scene", "spheres", "--frames"}, {"--frames"});
     expectBadInput({"run", "--scene"}, {"--scene"});
@@ -333,11 +341,7 @@ TEST(CliInput, BenchFlags) {
 TEST(CliInput, RenderFlags) {
     TempDir dir;
     const std::string out = (dir / "r.mp4").string();
-    struct Case {
-        std::vector<std::string> flag;
-        std::vector<std::string> parts;
-    };
-    const std::vector<Case> cases = {
+    const std::vector<BadFlag> cases = {
         {{"--width", "-5"}, {"--width", "-5", "16..8192"}},
         {{"--width", "abc"}, {"--width", "\"abc\"", "not a whole number", "16..8192"}},
         {{"--width", "5"}, {"--width", "value 5", "16..8192"}},
@@ -361,11 +365,7 @@ TEST(CliInput, RenderFlags) {
         {{"--seed", "-1"}, {"--seed", "-1", "0..2147483647"}},
         {{"--mode", "fast"}, {"--mode", "\"fast\""}},
     };
-    for (const Case& c : cases) {
-        std::vector<std::string> args = {"render", "--scene", "spheres", "--quiet", "--out", out};
-        args.insert(args.end(), c.flag.begin(), c.flag.end());
-        expectBadInput(args, c.parts);
-    }
+    expectEachBadFlag({"render", "--scene", "spheres", "--quiet", "--out", out}, cases);
     // Reported even when the scene is bad too; render has no --threads.
     expectBadInput({"render", "--scene", "no-such-scene", "--out", out, "--fps", "x"}, {"--fps"});
     expectBadInput({"render", "--scene", "spheres", "--out", out, "--threads", "2"}, {"--threads"});
@@ -377,11 +377,7 @@ TEST(CliInput, ViewFlagsAreCheckedBeforeAnyWindow) {
     // No display: a bad flag must be reported before the viewer opens a window.
     TempDir dir;
     const std::string shot = (dir / "shot.png").string();
-    struct Case {
-        std::vector<std::string> flag;
-        std::vector<std::string> parts;
-    };
-    const std::vector<Case> cases = {
+    const std::vector<BadFlag> cases = {
         {{"--frames", "-1"}, {"--frames", "-1", "0..10000000"}},
         {{"--frames", "abc"}, {"--frames", "\"abc\"", "not a whole number"}},
         {{"--width", "-5"}, {"--width", "-5", "64..8192"}},
@@ -392,12 +388,7 @@ TEST(CliInput, ViewFlagsAreCheckedBeforeAnyWindow) {
         {{"--elevation", "-100"}, {"--elevation", "-100", "-90..90"}},
         {{"--seed", "abc"}, {"--seed", "\"abc\""}},
     };
-    for (const Case& c : cases) {
-        std::vector<std::string> args = {"view",    "--scene",      "spheres",
-                                         "--quiet", "--screenshot", shot};
-        args.insert(args.end(), c.flag.begin(), c.flag.end());
-        expectBadInput(args, c.parts, true);
-    }
+    expectEachBadFlag({"view", "--scene", "spheres", "--quiet", "--screenshot", shot}, cases, true);
     // The view takes no --fps.
     expectBadInput({"view", "--scene", "spheres", "--fps", "30"}, {"--fps"}, true);
     EXPECT_FALSE(fs::exists(shot));
