@@ -103,6 +103,13 @@ struct WorldSettings {
     /// created overlapping or in the floor leave at a few m/s instead of tens. Costs the
     /// alphabets scene about a third more time per frame (docs/ALGORITHM.md, "Push-out").
     float pushOutSpeed = 0.0f;
+    /// Recovery speed (m/s) of bodies placed overlapping: a body added, translated or set inside
+    /// another body or below the floor is pushed out of it by at most this speed, by moving
+    /// positions, without adding velocity; bodies placed one inside the other (a centre of
+    /// mass in the other's boxes) move apart as rigid wholes. Only pairs that overlapped when
+    /// placed are affected, until they are apart; 0: overlap is projected out at once
+    /// (docs/ALGORITHM.md, "Overlap recovery").
+    float overlapRecoverySpeed = 2.0f;
 };
 
 /// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of
@@ -120,6 +127,8 @@ struct Profile {
     int potentialPairs = 0;   ///< node/box pairs tested in the narrow phase (last substep)
     int contacts = 0;         ///< object contacts (last substep)
     int floorContacts = 0;    ///< floor contacts (last substep)
+    int overlapPairs = 0;     ///< pairs placed overlapping and not yet apart (last substep)
+    int wholePairs = 0;       ///< of those, pushed apart as whole bodies (last substep)
     float maxPenetration = 0; ///< deepest contact violation left after the response (a node
                               ///< inside another object or below the floor), metres, over
                               ///< the frame's substeps

@@ -158,6 +158,14 @@ struct CandidatePair {
     friend bool operator==(const CandidatePair&, const CandidatePair&) = default;
 };
 
+/// A pair of bodies placed overlapping, remembered until apart (overlap_recovery.h).
+struct OverlapPair {
+    uint32_t a = 0, b = 0; ///< dense indices, a < b; b = kFloorBody for the floor
+    uint8_t whole = 0;     ///< pushed apart as whole bodies, no node contacts (this substep)
+    uint8_t deep = 0;      ///< a contact deeper than the skin (this substep)
+    uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
+};
+
 /// Contacts a node keeps in one substep, the deepest (pipeline.cpp).
 inline constexpr uint32_t kMaxContactsPerNode = 16;
 
@@ -200,6 +208,14 @@ struct CollisionState {
     std::vector<RigidPoint> rigidPoints;
     SolverScratch solver;          ///< scratch of the projection and velocity pass
     std::vector<uint32_t> impacts; ///< scratch of the rigid phase
+    // Overlap recovery (overlap_recovery.h).
+    std::vector<OverlapPair> overlaps; ///< remembered pairs, sorted by (a, b)
+    std::vector<uint64_t> wholePairs;  ///< this substep's whole pairs, (a << 32 | b), sorted
+    std::vector<Vec3> overlapCentre;   ///< per body, centre of mass (pairs' bodies only)
+    std::vector<Vec3> overlapPush;     ///< per body, scratch
+    std::vector<float> overlapWeight;  ///< per body, scratch
+    std::vector<Vec3> overlapVelocity, overlapVelocityBefore; ///< per body, scratch
+    std::vector<CandidatePair> overlapScratch;
 };
 
 } // namespace ffd::detail

@@ -3,6 +3,7 @@
 // Image Processing 5(4), 2011; Teschner et al., VMV 2003 (spatial hashing).
 #include "collision/pipeline.h"
 
+#include "collision/overlap_recovery.h"
 #include "world/world_data.h"
 
 #include <algorithm>
@@ -36,14 +37,21 @@ float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
     return skinOf(w, b) + w.substep * relativeSpeedBound(a, b);
 }
 
-// Push-out of deep overlap (when WorldSettings::pushOutSpeed > 0). A contact deeper than the skin
-// plus WorldSettings::pushOutSpeed x substep (bodies created overlapping, a body crushed under a
-// pile) is not projected out at once: the projections leave the rest (Contact::tolerated), so each
-// substep removes at most that much of it, by moving positions, and the rigid phase leaves the
-// contact out. Removed at once, the overlap became a dent that shape matching restored at depth /
-// substep, and the rigid phase turned that speed into rigid motion: 200 overlapping spheres left at
-// 44 m/s, two spheres created 5 cm into each other at 8 m/s (docs/ALGORITHM.md, "Push-out").
-float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance) {
+// Push-out of deep overlap: what the projections leave of a contact's overlap in this substep
+// (Contact::tolerated), so that it goes at a bounded speed, by moving positions, and the rigid
+// phase leaves the contact out. Removed at once, deep overlap became a dent that shape matching
+// restored at depth / substep, and the rigid phase turned that speed into rigid motion: 200
+// overlapping spheres left at 44 m/s, two spheres created 5 cm into each other at 8 m/s
+// (docs/ALGORITHM.md, "Overlap recovery" and "Push-out"). Pairs placed overlapping
+// (overlap_recovery.h) lose at most WorldSettings::overlapRecoverySpeed x substep per substep;
+// with WorldSettings::pushOutSpeed (0 by default: none) every contact deeper than the skin plus
+// pushOutSpeed x substep loses at most that depth.
+float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance, uint32_t bodyA,
+                       uint32_t bodyB) {
+    // Pairs placed overlapping: at most the recovery speed x substep of overlap per substep.
+    const float recovery = w.settings.overlapRecoverySpeed * w.substep;
+    if (recovery > 0 && distance < -recovery && isRecovering(w, bodyA, bodyB))
+        return distance + recovery;
     if (w.settings.pushOutSpeed == 0) return 0.0f;
     const float depth = skinOf(w, b) + w.settings.pushOutSpeed * w.substep;
     return distance < -depth ? distance + depth : 0.0f;
@@ -68,7 +76,7 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec
     c.hasB = true;
     c.normal = planes.normal[hit.face];
     c.distance = hit.distance;
-    c.tolerated = toleratedOverlap(w, B, hit.distance);
+    c.tolerated = toleratedOverlap(w, B, hit.distance, bodyA, bodyB);
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
     c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
@@ -214,7 +222,7 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     });
 }
 
-void sphereTest(WorldData& w) {
+void computeSpheres(WorldData& w) {
     // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
     for (BodyRecord& r : w.bodies) {
         const Vec3 c = r.bounds.centre();
@@ -227,11 +235,18 @@ void sphereTest(WorldData& w) {
         r.sphereCentre = c;
         r.sphereRadius = std::sqrt(r2);
     }
+}
+
+void sphereTest(WorldData& w) {
+    computeSpheres(w);
     CollisionState& s = w.collision;
     if (int(w.bodies.size()) > w.settings.sweepThreshold)
         sphereTestSweep(w, s.pairs);
     else
         sphereTestAllPairs(w, s.pairs);
+    // Pairs placed one inside the other find no node contacts (overlap_recovery.h).
+    if (!s.wholePairs.empty())
+        std::erase_if(s.pairs, [&](const CandidatePair& p) { return isWhole(w, p.a, p.b); });
 
     // Partners of each body (CSR), for the hash phase's pair check.
     const size_t n = w.bodies.size();
@@ -273,7 +288,7 @@ void findFloorContacts(WorldData& w) {
                 c.normal = {0, 1, 0};
                 c.offset = floorY;
                 c.distance = y - floorY;
-                c.tolerated = toleratedOverlap(w, r, c.distance);
+                c.tolerated = toleratedOverlap(w, r, c.distance, b, kFloorBody);
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
                 c.rigidity = r.settings.contactRigidity;
@@ -322,6 +337,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
                        float margin) {
         ++outPotential;
+        if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
         const BodyRecord& B = w.bodies[bodyB];
         if (!w.boxBounds[box].contains(p, margin)) return;
         if (s.planeStamp[box] != s.stamp) {

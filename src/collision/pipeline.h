@@ -23,10 +23,14 @@ void rebuildCollisionTopology(WorldData& world);
 /// node_update for bodies [first, last): nodes, box bounds, body bounds.
 void updateNodes(WorldData& world, size_t firstBody, size_t lastBody);
 
+/// Each body's bounding sphere (as sphereTest computes them), without the pairs.
+void computeSpheres(WorldData& world);
+
 /// sphere_test: each body's bounding sphere (centre of its node bounds; radius reaching the
 /// farthest corner of any of its box bounds, so that the test is conservative for the narrow
 /// phase's inflated box bounds) and the candidate pairs (all pairs below
-/// settings.sweepThreshold bodies, sort-and-sweep on x above). Fills world.collision.pairs.
+/// settings.sweepThreshold bodies, sort-and-sweep on x above), less the whole pairs of the
+/// overlap recovery. Fills world.collision.pairs.
 void sphereTest(WorldData& world);
 
 /// Candidate pairs by brute force over all pairs (for tests of the sweep).

@@ -413,6 +413,9 @@ struct Viewer::Impl {
         const Profile& p = world->profile();
         ImGui::Text("candidate pairs %d   potential pairs %d", p.candidatePairs, p.potentialPairs);
         ImGui::Text("contacts %d   floor contacts %d", p.contacts, p.floorContacts);
+        if (p.overlapPairs > 0)
+            ImGui::Text("placed overlapping %d   pushed apart whole %d", p.overlapPairs,
+                        p.wholePairs);
         ImGui::Text("max penetration %.2f mm", double(p.maxPenetration) * 1000);
         ImGui::Text("step %.2f ms   draw %.2f ms", simulateMs, renderMs);
         if (ImGui::Button("Save screenshot")) captureRequested = true, screenshotToFile = true;

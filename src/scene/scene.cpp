@@ -188,6 +188,7 @@ void readWorld(Fields f, WorldSettings& w) {
     f.integer("sweep_threshold", w.sweepThreshold, 0, 1000000000, ">= 0");
     f.number("max_separation_speed", w.maxSeparationSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
     f.number("push_out_speed", w.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
+    f.number("overlap_recovery_speed", w.overlapRecoverySpeed, 0.0, 1e4, "0 (at once)..1e4 m/s");
     f.finish();
 }
 

@@ -1,6 +1,7 @@
 // World: bodies, the staged step and its profile.
 #include "ffdaabb/world.h"
 
+#include "collision/overlap_recovery.h"
 #include "collision/pipeline.h"
 #include "ffdaabb/error.h"
 #include "world/world_data.h"
@@ -166,6 +167,8 @@ void validate(const WorldSettings& s) {
     requireRange("world.maxSeparationSpeed", s.maxSeparationSpeed, 0.0, 1e4,
                  "0 (no bound)..1e4 m/s");
     requireRange("world.pushOutSpeed", s.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
+    requireRange("world.overlapRecoverySpeed", s.overlapRecoverySpeed, 0.0, 1e4,
+                 "0 (at once)..1e4 m/s");
     if (s.mode != CollisionMode::Enhanced && s.mode != CollisionMode::Previous &&
         s.mode != CollisionMode::Brute && s.mode != CollisionMode::None)
         throw InputError("world.mode", "unknown collision mode");
@@ -289,6 +292,7 @@ bool World::removeBody(BodyId id) {
     ++w.slots[id.index].generation;
     w.freeSlots.push_back(id.index);
     w.collision.pairs.clear();
+    detail::forgetBody(w, dense);
     detail::rebuildCollisionTopology(w);
     rebuildDynamicsBatches(w);
     return true;
@@ -441,6 +445,10 @@ void World::step() {
         prof.nodeUpdate += msSince(t);
 
         w.collision.pairs.clear();
+        t = Clock::now();
+        detail::trackOverlaps(w);
+        detail::pushWholePairsApart(w, dt);
+        prof.sphereTest += msSince(t);
         if (w.settings.mode == CollisionMode::Enhanced) {
             t = Clock::now();
             detail::sphereTest(w);
@@ -460,6 +468,9 @@ void World::step() {
 
         t = Clock::now();
         detail::findFloorContacts(w);
+        detail::settleOverlaps(w);
+        prof.overlapPairs = int(w.collision.overlaps.size());
+        prof.wholePairs = int(w.collision.wholePairs.size());
         prof.floor += msSince(t);
 
         t = Clock::now();
@@ -606,6 +617,7 @@ void World::translate(BodyId id, Vec3 offset) {
     requireFinite("offset", offset);
     const BodyRecord& r = get(*data_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) data_->x[r.firstParticle + i] += offset;
+    data_->find(id)->placed = true;
     updateMesh(id);
 }
 
@@ -632,6 +644,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
         data_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
     }
     if (resetVelocity) data_->find(id)->halfKick = true;
+    data_->find(id)->placed = true;
     updateMesh(id);
 }
 

