@@ -15,24 +15,8 @@
 
 using namespace ffd;
 using ffd::test::ball;
-
-namespace {
-
-BodySettings sphereAt(Vec3 p, Vec3 velocity = {}) {
-    BodySettings s;
-    s.lattice.targetCells = 38;
-    s.position = p;
-    s.velocity = velocity;
-    return s;
-}
-
-float fastestBody(const World& world) {
-    float fastest = 0;
-    for (BodyId id : world.bodies()) fastest = std::max(fastest, length(world.linearVelocity(id)));
-    return fastest;
-}
-
-} // namespace
+using ffd::test::fastestBody;
+using ffd::test::sphereAt;
 
 // Two spheres created apart and thrown at each other (8 m/s each) meet in motion: the recovery
 // never remembers them, and the run is bit-identical to one with the recovery off.

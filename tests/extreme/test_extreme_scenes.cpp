@@ -20,16 +20,10 @@
 
 using namespace ffd;
 using ffd::test::ball;
+using ffd::test::fastestBody;
+using ffd::test::sphereAt;
 
 namespace {
-
-BodySettings sphereAt(Vec3 p, Vec3 velocity = {}) {
-    BodySettings s;
-    s.lattice.targetCells = 38;
-    s.position = p;
-    s.velocity = velocity;
-    return s;
-}
 
 bool allFinite(const World& world) {
     for (BodyId id : world.bodies()) {
@@ -66,12 +60,6 @@ double kineticEnergyPerKilogram(const World& world) {
     double mass = 0;
     for (BodyId id : world.bodies()) mass += world.info(id).mass;
     return world.kineticEnergy() / mass;
-}
-
-float fastestBody(const World& world) {
-    float fastest = 0;
-    for (BodyId id : world.bodies()) fastest = std::max(fastest, length(world.linearVelocity(id)));
-    return fastest;
 }
 
 } // namespace

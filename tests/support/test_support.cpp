@@ -2,6 +2,7 @@
 
 #include "ffdaabb/generators.h"
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <fcntl.h>
@@ -106,6 +107,20 @@ TriangleMesh ball() {
     TriangleMesh m = icosphere(2);
     transform(m, 0.5f, {});
     return m;
+}
+
+BodySettings sphereAt(Vec3 position, Vec3 velocity) {
+    BodySettings s;
+    s.lattice.targetCells = 38;
+    s.position = position;
+    s.velocity = velocity;
+    return s;
+}
+
+float fastestBody(const World& world) {
+    float fastest = 0;
+    for (BodyId id : world.bodies()) fastest = std::max(fastest, length(world.linearVelocity(id)));
+    return fastest;
 }
 
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol) {

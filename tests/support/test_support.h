@@ -3,6 +3,7 @@
 
 #include "ffdaabb/math.h"
 #include "ffdaabb/mesh.h"
+#include "ffdaabb/world.h"
 
 #include <filesystem>
 #include <random>
@@ -65,6 +66,12 @@ std::filesystem::path cliPath();
 
 /// An icosphere of 2 subdivisions (162 vertices), 1 m across, centred on the origin.
 TriangleMesh ball();
+
+/// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
+BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
+
+/// The largest linear velocity of any body, m/s.
+float fastestBody(const World& world);
 
 /// True when p lies in the convex hull of the 8 points (within tol, absolute): for every plane
 /// through three of the points that has all 8 on one side, p must be on that side too.
