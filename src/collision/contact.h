@@ -216,6 +216,7 @@ struct CollisionState {
     std::vector<float> overlapWeight;  ///< per body, scratch
     std::vector<Vec3> overlapVelocity, overlapVelocityBefore; ///< per body, scratch
     std::vector<CandidatePair> overlapScratch;
+    std::vector<OverlapPair> overlapAdded, overlapMerged; ///< scratch
 };
 
 } // namespace ffd::detail

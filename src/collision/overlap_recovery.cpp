@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 
 namespace ffd::detail {
 
@@ -86,21 +87,24 @@ void trackOverlaps(WorldData& w) {
             sphereTestSweep(w, found);
         else
             sphereTestAllPairs(w, found);
+        std::vector<OverlapPair>& added = s.overlapAdded;
+        added.clear();
         for (const CandidatePair& p : found)
-            if (w.bodies[p.a].placed || w.bodies[p.b].placed) s.overlaps.push_back({p.a, p.b});
+            if (w.bodies[p.a].placed || w.bodies[p.b].placed) added.push_back({p.a, p.b});
         for (uint32_t b = 0; b < w.bodies.size(); ++b) {
             const BodyRecord& r = w.bodies[b];
             const float skin = w.settings.contactSkin * r.cellSize;
             if (w.settings.floor && r.placed && r.bounds.lo.y < w.settings.floorHeight + skin)
-                s.overlaps.push_back({b, kFloorBody});
+                added.push_back({b, kFloorBody});
         }
-        std::sort(s.overlaps.begin(), s.overlaps.end(),
-                  [](const OverlapPair& x, const OverlapPair& y) { return keyOf(x) < keyOf(y); });
-        s.overlaps.erase(std::unique(s.overlaps.begin(), s.overlaps.end(),
-                                     [](const OverlapPair& x, const OverlapPair& y) {
-                                         return keyOf(x) == keyOf(y);
-                                     }),
-                         s.overlaps.end());
+        auto byKey = [](const OverlapPair& x, const OverlapPair& y) { return keyOf(x) < keyOf(y); };
+        std::sort(added.begin(), added.end(), byKey);
+        // Pairs remembered already keep their state (set_union takes the first range's).
+        std::vector<OverlapPair>& merged = s.overlapMerged;
+        merged.clear();
+        std::set_union(s.overlaps.begin(), s.overlaps.end(), added.begin(), added.end(),
+                       std::back_inserter(merged), byKey);
+        s.overlaps.swap(merged);
         for (BodyRecord& r : w.bodies) r.placed = false;
     }
     // Centres of mass of the bodies in object pairs (NaN: not needed).
