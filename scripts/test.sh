@@ -48,6 +48,7 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   "$prefix/examples-build/drop_three"
   "build/$1/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
   "build/$1/bin/ffdaabb" run --scene examples/mixed.json --frames 30 --quiet
+  "build/$1/bin/ffdaabb" run --scene examples/one_spot.json --frames 10 --quiet
   echo "examples: built against the installed package and ran"
 }
 

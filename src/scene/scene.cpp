@@ -312,7 +312,7 @@ void readLayout(Fields f, SceneLayout& l) {
         l.columns[0] = int((*c)[0].get<long long>());
         l.columns[1] = int((*c)[1].get<long long>());
     }
-    f.number("spacing", l.spacing, 1e-4, 1e4, "metres, > 0");
+    f.number("spacing", l.spacing, 1e-4, 1e4, "metres, 1e-4..1e4");
     f.number("jitter", l.jitter, 0.0, 0.5, "0..0.5 of the spacing");
     f.boolean("random_rotation", l.randomRotation);
     f.vec3("velocity", l.velocity, 1e4);

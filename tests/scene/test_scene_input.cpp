@@ -164,7 +164,7 @@ TEST(SceneInput, OutOfRangeValuesNameTheRange) {
         {"",
          ", \"world\": {\"overlap_recovery_speed\": -0.5}",
          {"world.overlap_recovery_speed", "-0.5", "0 (at once)..1e4 m/s"}},
-        {"", ", \"layout\": {\"spacing\": 0}", {"layout.spacing", "> 0"}},
+        {"", ", \"layout\": {\"spacing\": 0}", {"layout.spacing", "1e-4..1e4"}},
         {"", ", \"layout\": {\"jitter\": 0.9}", {"layout.jitter", "0..0.5"}},
         {"", ", \"layout\": {\"seed\": -1}", {"layout.seed", "0..2147483647"}},
         {"", ", \"layout\": {\"seed\": 99999999999}", {"layout.seed", "99999999999"}},
