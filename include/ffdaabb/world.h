@@ -106,9 +106,10 @@ struct WorldSettings {
     /// Recovery speed (m/s) of bodies placed overlapping: a body added, translated or set inside
     /// another body or below the floor is pushed out of it by at most this speed, by moving
     /// positions, without adding velocity; bodies placed one inside the other (a centre of
-    /// mass in the other's boxes) move apart as rigid wholes. Only pairs that overlapped when
-    /// placed are affected, until they are apart; 0: overlap is projected out at once
-    /// (docs/ALGORITHM.md, "Overlap recovery").
+    /// mass in the other's lattice cells) move apart as rigid wholes until their centres are a
+    /// cell clear of each other. Only pairs that overlapped when placed are affected, until
+    /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
+    /// recovery").
     float overlapRecoverySpeed = 2.0f;
 };
 

@@ -20,11 +20,13 @@ uint64_t keyOf(const OverlapPair& p) {
     return (uint64_t(p.a) << 32) | p.b;
 }
 
-const OverlapPair* findPair(const CollisionState& s, uint32_t a, uint32_t b) {
+// The remembered pair of bodies a and b (any order), or null.
+template <class Pairs>
+auto findPair(Pairs& overlaps, uint32_t a, uint32_t b) {
     const uint64_t key = pairKey(a, b);
-    auto it = std::lower_bound(s.overlaps.begin(), s.overlaps.end(), key,
+    auto it = std::lower_bound(overlaps.begin(), overlaps.end(), key,
                                [](const OverlapPair& p, uint64_t k) { return keyOf(p) < k; });
-    return it != s.overlaps.end() && keyOf(*it) == key ? &*it : nullptr;
+    return it != overlaps.end() && keyOf(*it) == key ? &*it : nullptr;
 }
 
 Vec3 centreOfMass(const WorldData& w, const BodyRecord& r) {
@@ -129,7 +131,7 @@ void trackOverlaps(WorldData& w) {
 }
 
 bool isRecovering(const WorldData& w, uint32_t a, uint32_t b) {
-    return !w.collision.overlaps.empty() && findPair(w.collision, a, b) != nullptr;
+    return !w.collision.overlaps.empty() && findPair(w.collision.overlaps, a, b) != nullptr;
 }
 
 bool isWhole(const WorldData& w, uint32_t a, uint32_t b) {
@@ -145,8 +147,7 @@ void settleOverlaps(WorldData& w) {
         const uint32_t other = c.hasB ? c.bodyB : kFloorBody;
         const BodyRecord& owner = w.bodies[c.hasB ? c.bodyB : c.bodyA];
         if (c.distance >= -w.settings.contactSkin * owner.cellSize) continue;
-        if (const OverlapPair* p = findPair(s, c.bodyA, other))
-            const_cast<OverlapPair*>(p)->deep = const_cast<OverlapPair*>(p)->confirmed = 1;
+        if (OverlapPair* p = findPair(s.overlaps, c.bodyA, other)) p->deep = p->confirmed = 1;
     }
     std::erase_if(s.overlaps, [](const OverlapPair& p) { return !p.deep && !p.whole; });
 }
@@ -194,11 +195,12 @@ void pushWholePairsApart(WorldData& w, float dt) {
     }
     const float step = w.settings.overlapRecoverySpeed * dt;
     for (uint32_t b = 0; b < n; ++b) {
-        const float len = length(push[b]);
-        if (len == 0) continue;
+        if (std::isnan(velocity[b].x)) continue; // in no whole pair
         BodyRecord& r = w.bodies[b];
         const Vec3 dv = velocity[b] - before[b];
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) w.v[i] += dv;
+        const float len = length(push[b]);
+        if (len == 0) continue; // partners balanced
         // A body with one partner moves its mass share of the speed; the sum over many
         // partners is bounded to the same.
         Vec3 move = push[b] * (step / maxNum(heaviest[b], len));
