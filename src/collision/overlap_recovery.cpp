@@ -29,13 +29,6 @@ auto findPair(Pairs& overlaps, uint32_t a, uint32_t b) {
     return it != overlaps.end() && keyOf(*it) == key ? &*it : nullptr;
 }
 
-Vec3 centreOfMass(const WorldData& w, const BodyRecord& r) {
-    Vec3 c{};
-    for (uint32_t p = 0; p < r.particleCount; ++p)
-        c += w.x[r.firstParticle + p] * r.model->massFraction[p];
-    return c;
-}
-
 // Whether `point` lies within `grow` of the bounds of one of the body's deformed lattice cells
 // (interior ones too: the cell boxes cover only the surface, and a centre lies in the interior).
 bool insideCells(const WorldData& w, const BodyRecord& r, Vec3 point, float grow) {
@@ -48,13 +41,6 @@ bool insideCells(const WorldData& w, const BodyRecord& r, Vec3 point, float grow
         if (cell.contains(point, grow)) return true;
     }
     return false;
-}
-
-Vec3 meanVelocity(const WorldData& w, const BodyRecord& r) {
-    Vec3 v{};
-    for (uint32_t p = 0; p < r.particleCount; ++p)
-        v += w.v[r.firstParticle + p] * r.model->massFraction[p];
-    return v;
 }
 
 // A unit direction that depends only on the pair, for centres that coincide.
@@ -95,8 +81,8 @@ void trackOverlaps(WorldData& w) {
             if (w.bodies[p.a].placed || w.bodies[p.b].placed) added.push_back({p.a, p.b});
         for (uint32_t b = 0; b < w.bodies.size(); ++b) {
             const BodyRecord& r = w.bodies[b];
-            const float skin = w.settings.contactSkin * r.cellSize;
-            if (w.settings.floor && r.placed && r.bounds.lo.y < w.settings.floorHeight + skin)
+            if (w.settings.floor && r.placed &&
+                r.bounds.lo.y < w.settings.floorHeight + skinOf(w, r))
                 added.push_back({b, kFloorBody});
         }
         auto byKey = [](const OverlapPair& x, const OverlapPair& y) { return keyOf(x) < keyOf(y); };
@@ -115,7 +101,8 @@ void trackOverlaps(WorldData& w) {
         p.whole = 0;
         if (p.b == kFloorBody) continue;
         for (uint32_t i : {p.a, p.b})
-            if (std::isnan(s.overlapCentre[i].x)) s.overlapCentre[i] = centreOfMass(w, w.bodies[i]);
+            if (std::isnan(s.overlapCentre[i].x))
+                s.overlapCentre[i] = massWeightedMean(w.bodies[i], w.x);
         const BodyRecord& A = w.bodies[p.a];
         const BodyRecord& B = w.bodies[p.b];
         // A centre inside the other's cells: the pair does overlap deeply. Once it has
@@ -146,7 +133,7 @@ void settleOverlaps(WorldData& w) {
     for (const Contact& c : s.all) {
         const uint32_t other = c.hasB ? c.bodyB : kFloorBody;
         const BodyRecord& owner = w.bodies[c.hasB ? c.bodyB : c.bodyA];
-        if (c.distance >= -w.settings.contactSkin * owner.cellSize) continue;
+        if (c.distance >= -skinOf(w, owner)) continue;
         if (OverlapPair* p = findPair(s.overlaps, c.bodyA, other)) p->deep = p->confirmed = 1;
     }
     std::erase_if(s.overlaps, [](const OverlapPair& p) { return !p.deep && !p.whole; });
@@ -175,7 +162,8 @@ void pushWholePairsApart(WorldData& w, float dt) {
         // The pair neither approaches along the line of centres (one resting on the other
         // under gravity would otherwise fall through it: there are no node contacts).
         for (const uint32_t i : {a, b})
-            if (std::isnan(velocity[i].x)) before[i] = velocity[i] = meanVelocity(w, w.bodies[i]);
+            if (std::isnan(velocity[i].x))
+                before[i] = velocity[i] = massWeightedMean(w.bodies[i], w.v);
         const float approach = dot(velocity[a] - velocity[b], d);
         if (approach < 0) {
             const float j = -approach / (1.0f / A.mass + 1.0f / B.mass);
@@ -207,7 +195,7 @@ void pushWholePairsApart(WorldData& w, float dt) {
         // Not down into the floor: the floor would stop the body's lowest cells only, and the
         // dent, restored against the floor, would throw the body up.
         if (w.settings.floor && move.y < 0 &&
-            r.bounds.lo.y + move.y < w.settings.floorHeight + w.settings.contactSkin * r.cellSize)
+            r.bounds.lo.y + move.y < w.settings.floorHeight + skinOf(w, r))
             move.y = 0;
         // Everything the contacts are found on moves with the particles (the nodes are
         // trilinear blends of them), so contacts see the moved body. Overlap with the floor or

@@ -12,6 +12,10 @@
 
 namespace ffd::detail {
 
+float skinOf(const WorldData& w, const BodyRecord& b) {
+    return w.settings.contactSkin * b.cellSize;
+}
+
 namespace {
 
 // Faces of a box whose planes lie within this share of the skin of the nearest one (and no
@@ -19,10 +23,6 @@ namespace {
 // at the default skin. Wider ties (the whole skin) also turned contacts that were plainly
 // nearer one face and changed the paper scenes' piles for the worse.
 constexpr float kTieTolerance = 0.2f;
-
-float skinOf(const WorldData& w, const BodyRecord& b) {
-    return w.settings.contactSkin * b.cellSize;
-}
 
 // Contact margin between a node of A and a box of B: B's skin plus how far the two can close
 // in one substep (speculative contacts: found before they touch, so the velocity solve can

@@ -16,6 +16,10 @@
 namespace ffd::detail {
 
 struct WorldData;
+struct BodyRecord;
+
+/// A body's contact skin, metres (WorldSettings::contactSkin of its cell size).
+float skinOf(const WorldData& world, const BodyRecord& body);
 
 /// Rebuilds the node/box -> body lookups after bodies were added or removed.
 void rebuildCollisionTopology(WorldData& world);

@@ -549,27 +549,11 @@ void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
 }
 
 Vec3 World::centreOfMass(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    double m = 0;
-    Vec3 c{};
-    for (uint32_t i = 0; i < r.particleCount; ++i) {
-        const float mi = 1.0f / data_->invMass[r.firstParticle + i];
-        c += data_->x[r.firstParticle + i] * mi;
-        m += double(mi);
-    }
-    return c / float(m);
+    return detail::massWeightedMean(get(*data_, id), data_->x);
 }
 
 Vec3 World::linearVelocity(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    double m = 0;
-    Vec3 p{};
-    for (uint32_t i = 0; i < r.particleCount; ++i) {
-        const float mi = 1.0f / data_->invMass[r.firstParticle + i];
-        p += data_->v[r.firstParticle + i] * mi;
-        m += double(mi);
-    }
-    return p / float(m);
+    return detail::massWeightedMean(get(*data_, id), data_->v);
 }
 
 BodyInfo World::info(BodyId id) const {

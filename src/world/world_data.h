@@ -108,4 +108,13 @@ struct WorldData {
     }
 };
 
+/// Mass-weighted mean over a body's particles of a per-particle quantity (`x`: the centre of
+/// mass; `v`: the linear velocity), by the model's mass fractions.
+inline Vec3 massWeightedMean(const BodyRecord& r, const std::vector<Vec3>& perParticle) {
+    Vec3 sum{};
+    for (uint32_t p = 0; p < r.particleCount; ++p)
+        sum += perParticle[r.firstParticle + p] * r.model->massFraction[p];
+    return sum;
+}
+
 } // namespace ffd::detail
