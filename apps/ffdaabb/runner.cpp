@@ -1,6 +1,7 @@
 #include "runner.h"
 
 #include "ffdaabb/error.h"
+#include "sample_stats.h"
 #include "util/atomic_file.h"
 
 #include <fmt/core.h>
@@ -20,16 +21,18 @@ std::array<double, kStageCount> stages(const Profile& p) {
             p.objectCollision, p.meshUpdate, p.total};
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    const size_t mid = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + ptrdiff_t(mid), v.end());
-    double m = v[mid];
-    if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + ptrdiff_t(mid)));
-    return m;
-}
-
 } // namespace
+
+void summariseStages(const std::vector<std::array<double, kStageCount>>& frameMs,
+                     double (&mean)[kStageCount], double (&median)[kStageCount]) {
+    for (int s = 0; s < kStageCount; ++s) {
+        std::vector<double> v;
+        v.reserve(frameMs.size());
+        for (const auto& f : frameMs) v.push_back(f[size_t(s)]);
+        mean[s] = bench::mean(v);
+        median[s] = bench::median(std::move(v));
+    }
+}
 
 RunResult runScene(const Scene& scene, const RunOptions& options,
                    const std::function<void(const SceneBuild&)>& atEnd) {
@@ -67,14 +70,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double n = std::max(1, options.frames);
     r.candidatePairs /= n, r.potentialPairs /= n, r.contacts /= n, r.floorContacts /= n;
-    for (int s = 0; s < kStageCount; ++s) {
-        std::vector<double> v;
-        for (const auto& f : r.frameMs) v.push_back(f[size_t(s)]);
-        double sum = 0;
-        for (double x : v) sum += x;
-        r.meanMs[s] = v.empty() ? 0 : sum / double(v.size());
-        r.medianMs[s] = median(v);
-    }
+    summariseStages(r.frameMs, r.meanMs, r.medianMs);
     r.stateHash = build.world.stateHash();
     for (BodyId id : build.bodies) {
         for (const Vec3& p : build.world.particles(id)) r.finite = r.finite && isFinite(p);

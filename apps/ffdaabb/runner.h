@@ -1,11 +1,12 @@
 // Running a scene for N frames and collecting what the stats, the summary and the benchmark
-// tables report. Shared by `ffdaabb run` and `ffdaabb bench`.
+// tables report. Shared by `ffdaabb run`, `ffdaabb bench` and `ffdaabb soak`.
 #pragma once
 
 #include "ffdaabb/scene.h"
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -38,6 +39,11 @@ struct RunResult {
     bool finite = true;
     double framesPerSecond() const { return meanMs[6] > 0 ? 1000.0 / meanMs[6] : 0; }
 };
+
+/// The mean and the true median (bench/common/sample_stats.h) of each stage over the frames:
+/// the one summary behind every `stage_ms` and `stage_ms_median` the commands write.
+void summariseStages(const std::vector<std::array<double, kStageCount>>& frameMs,
+                     double (&mean)[kStageCount], double (&median)[kStageCount]);
 
 /// Builds the scene and steps it; `build` receives the built scene (to export meshes etc.).
 RunResult runScene(const Scene& scene, const RunOptions& options,

@@ -3,12 +3,12 @@
 // Van Oosterom and Strackee, "The solid angle of a plane triangle", IEEE TBME 1983. Closest
 // point on a triangle: Ericson, "Real-Time Collision Detection", 5.1.5.
 #include "interpenetration.h"
+#include "sample_stats.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <numeric>
 
 namespace ffd::bench {
 
@@ -195,11 +195,9 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
         if (gap[i] < range) near.push_back(gap[i]);
     out.nearBodies = int(near.size());
     if (!near.empty()) {
-        out.meanGap = std::accumulate(near.begin(), near.end(), 0.0) / double(near.size());
-        std::sort(near.begin(), near.end());
-        const size_t h = near.size() / 2;
-        out.medianGap = near.size() % 2 ? near[h] : 0.5 * (near[h - 1] + near[h]);
-        out.minGap = near.front();
+        out.meanGap = mean(near);
+        out.medianGap = median(near);
+        out.minGap = *std::min_element(near.begin(), near.end());
     }
     out.meanDepth = out.insideVertices > 0 ? depthSum / out.insideVertices : 0.0;
     out.maxDepthRelative =
