@@ -1,7 +1,9 @@
 // ffdaabb bench: the paper's experiment. Each scene runs in `previous` and `enhanced` mode side
 // by side (the two worlds are stepped in lockstep, alternating which goes first, so both see the
 // same machine conditions frame by frame), and the results are written as the paper's Table 1,
-// Table 2 and Fig. 4, beside the paper's own figures.
+// Table 2 and Fig. 4, beside the paper's own figures. The two pipelines find the same contacts,
+// so their trajectories must be bit-identical: bench fails (exit 1, naming the scene and the two
+// state hashes) when they are not. `--modes A,B` compares two other pipelines the same way.
 #include "commands.h"
 #include "flags.h"
 #include "runner.h"
@@ -52,6 +54,7 @@ struct BenchFlags {
     std::string frames = "300", warmup = "60", objects;
     CLI::Option* objectsOption = nullptr;
     std::vector<std::string> scenes{"alphabets", "spheres", "teapots", "buddhas"};
+    std::vector<std::string> modes{"previous", "enhanced"};
     bool quiet = false;
 };
 
@@ -60,11 +63,33 @@ struct BenchOptions {
     int frames = 300;
     int warmup = 60;
     std::vector<std::string> scenes;
+    std::array<CollisionMode, 2> modes{CollisionMode::Previous, CollisionMode::Enhanced};
     int objects = 0; // 0: the paper's counts
     bool quiet = false;
 };
 
+// The two pipelines of --modes, checked: InputError naming the flag and the value otherwise.
+std::array<CollisionMode, 2> parseModes(const std::vector<std::string>& given) {
+    std::string list;
+    for (const std::string& m : given) list += (list.empty() ? "" : ",") + m;
+    if (given.size() != 2)
+        throw InputError("--modes", fmt::format("\"{}\" names {} mode{} (expected two, e.g. "
+                                                "previous,enhanced)",
+                                                list, given.size(), given.size() == 1 ? "" : "s"));
+    std::array<CollisionMode, 2> modes{};
+    for (size_t i = 0; i < 2; ++i)
+        if (!parseCollisionMode(given[i], modes[i]))
+            throw InputError("--modes", "unknown mode \"" + given[i] +
+                                            "\" (expected two of enhanced, previous, brute, none)");
+    if (modes[0] == modes[1])
+        throw InputError("--modes", "\"" + list +
+                                        "\" names the same mode twice (expected two "
+                                        "different modes)");
+    return modes;
+}
+
 struct ModeResult {
+    std::string mode; ///< the collision mode's name (the JSON key, the tables' label)
     std::vector<std::array<double, kStageCount>> frameMs;
     double mean[kStageCount] = {}, median[kStageCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxPenetration = 0;
@@ -78,8 +103,13 @@ struct SceneResult {
     int objects = 0;
     double verticesPerObject = 0, trianglesPerObject = 0, cellsPerObject = 0;
     size_t vertices = 0, triangles = 0, cells = 0;
-    ModeResult previous, enhanced;
+    std::array<ModeResult, 2> modes; ///< in --modes order (default previous, enhanced)
     const PaperRow* paper = nullptr;
+    bool identical() const { return modes[0].hash == modes[1].hash; }
+    /// Frame rate of the second mode over the first's (enhanced / previous by default).
+    double fpsRatio() const { return modes[1].fps() / modes[0].fps(); }
+    /// Object collision time of the first mode over the second's.
+    double collisionRatio() const { return modes[0].mean[4] / std::max(1e-9, modes[1].mean[4]); }
 };
 
 std::array<double, kStageCount> stages(const Profile& p) {
@@ -88,15 +118,7 @@ std::array<double, kStageCount> stages(const Profile& p) {
 }
 
 void summarise(ModeResult& m, int frames) {
-    for (int s = 0; s < kStageCount; ++s) {
-        std::vector<double> v;
-        for (const auto& f : m.frameMs) v.push_back(f[size_t(s)]);
-        double sum = 0;
-        for (double x : v) sum += x;
-        m.mean[s] = v.empty() ? 0 : sum / double(v.size());
-        std::sort(v.begin(), v.end());
-        m.median[s] = v.empty() ? 0 : v[v.size() / 2];
-    }
+    summariseStages(m.frameMs, m.mean, m.median);
     m.candidatePairs /= std::max(1, frames);
     m.potentialPairs /= std::max(1, frames);
     m.contacts /= std::max(1, frames);
@@ -118,10 +140,12 @@ SceneResult benchScene(const std::string& name, const BenchOptions& o, int index
     r.objects = scene.objectCount();
     for (const PaperRow& p : kPaper)
         if (scene.name == p.scene) r.paper = &p;
-    Scene prev = scene, enh = scene;
-    prev.world.mode = CollisionMode::Previous;
-    enh.world.mode = CollisionMode::Enhanced;
-    SceneBuild a = buildScene(prev), b = buildScene(enh);
+    Scene first = scene, second = scene;
+    first.world.mode = o.modes[0];
+    second.world.mode = o.modes[1];
+    r.modes[0].mode = toString(o.modes[0]);
+    r.modes[1].mode = toString(o.modes[1]);
+    SceneBuild a = buildScene(first), b = buildScene(second);
     r.vertices = a.vertices, r.triangles = a.triangles, r.cells = a.cells;
     r.verticesPerObject = double(a.vertices) / r.objects;
     r.trianglesPerObject = double(a.triangles) / r.objects;
@@ -135,18 +159,29 @@ SceneResult benchScene(const std::string& name, const BenchOptions& o, int index
             a.world.step(), b.world.step();
         else
             b.world.step(), a.world.step();
-        if (f >= o.warmup) record(r.previous, a.world), record(r.enhanced, b.world);
+        if (f >= o.warmup) record(r.modes[0], a.world), record(r.modes[1], b.world);
         if (progress) progress(f + 1, total);
     }
-    summarise(r.previous, o.frames);
-    summarise(r.enhanced, o.frames);
-    r.previous.hash = a.world.stateHash();
-    r.enhanced.hash = b.world.stateHash();
-    for (const SceneBuild* s : {&a, &b})
-        for (BodyId id : s->bodies)
-            for (const Vec3& p : s->world.particles(id))
-                (s == &a ? r.previous : r.enhanced).finite &= isFinite(p);
+    for (int i = 0; i < 2; ++i) {
+        const SceneBuild& s = i == 0 ? a : b;
+        ModeResult& m = r.modes[size_t(i)];
+        summarise(m, o.frames);
+        m.hash = s.world.stateHash();
+        for (BodyId id : s.bodies)
+            for (const Vec3& p : s.world.particles(id)) m.finite &= isFinite(p);
+    }
     return r;
+}
+
+std::string hashText(uint64_t hash) {
+    return fmt::format("{:016x}", hash);
+}
+
+// The table's column heading for a mode: "prev" and "enh" as before, the others in full.
+std::string shortName(CollisionMode mode) {
+    return mode == CollisionMode::Previous   ? "prev"
+           : mode == CollisionMode::Enhanced ? "enh"
+                                             : toString(mode);
 }
 
 std::string machineDescription() {
@@ -174,15 +209,18 @@ import csv, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-rows = list(csv.DictReader(open(sys.argv[1])))
+reader = csv.DictReader(open(sys.argv[1]))
+rows = list(reader)
+modes = [k[len("fps_"):] for k in reader.fieldnames if k.startswith("fps_")]
+labels = {"previous": "previous (FFD-AABB, 2011)", "enhanced": "enhanced (bounding spheres, 2012)"}
 names = [r["scene"] for r in rows]
-prev = [float(r["fps_previous"]) for r in rows]
-enh = [float(r["fps_enhanced"]) for r in rows]
+prev = [float(r["fps_" + modes[0]]) for r in rows]
+enh = [float(r["fps_" + modes[1]]) for r in rows]
 x = range(len(rows))
 fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
 w = 0.38
-b1 = ax.bar([i - w / 2 for i in x], prev, w, label="previous (FFD-AABB, 2011)", color="#7f8c99")
-b2 = ax.bar([i + w / 2 for i in x], enh, w, label="enhanced (bounding spheres, 2012)", color="#e07b39")
+b1 = ax.bar([i - w / 2 for i in x], prev, w, label=labels.get(modes[0], modes[0]), color="#7f8c99")
+b2 = ax.bar([i + w / 2 for i in x], enh, w, label=labels.get(modes[1], modes[1]), color="#e07b39")
 for bars in (b1, b2):
     for b in bars:
         ax.annotate(f"{b.get_height():.0f}", (b.get_x() + b.get_width() / 2, b.get_height()),
@@ -192,7 +230,10 @@ for i, r in enumerate(rows):
 ax.set_xticks(list(x))
 ax.set_xticklabels([n.capitalize() for n in names])
 ax.set_ylabel("frames per second (one thread)")
-ax.set_title("Fig. 4 reproduced: previous vs enhanced FFD-AABB")
+if modes == ["previous", "enhanced"]:
+    ax.set_title("Fig. 4 reproduced: previous vs enhanced FFD-AABB")
+else:
+    ax.set_title(f"{modes[0]} vs {modes[1]}")
 ax.set_ylim(0, max(prev + enh) * 1.25)
 ax.legend(loc="upper right", fontsize=8)
 fig.tight_layout()
@@ -231,10 +272,10 @@ bool plotFig4(const std::filesystem::path& csv, const std::filesystem::path& png
 std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
     std::ostringstream md;
     md << "# Table 1: time per frame by stage (ms)\n\n";
-    md << fmt::format("Mean over {} frames after {} warm-up, one thread; `previous` and `enhanced` "
+    md << fmt::format("Mean over {} frames after {} warm-up, one thread; `{}` and `{}` "
                       "stepped side by side. The paper's figures (Core i5 3.3 GHz, previous "
                       "method) are beside ours.\n\n",
-                      o.frames, o.warmup);
+                      o.frames, o.warmup, toString(o.modes[0]), toString(o.modes[1]));
     md << "| scene | objects | source | mesh updating | min, max updating | distance calculating "
           "| floor | objects collision | dynamics | total | fps |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -245,13 +286,12 @@ std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
                               r.paper->label, r.paper->objects, r.paper->mesh, r.paper->minmax,
                               r.paper->distance, r.paper->floor, r.paper->objects_ms,
                               r.paper->total, 1000.0 / r.paper->total);
-        for (const auto& [label, m] :
-             {std::pair{"ours, previous", &r.previous}, std::pair{"ours, enhanced", &r.enhanced}})
+        for (const ModeResult& m : r.modes)
             md << fmt::format(
-                "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} "
+                "| {} | {} | ours, {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} "
                 "| {:.3f} | {:.1f} |\n",
-                r.name, r.objects, label, m->mean[5], m->mean[1], m->mean[2], m->mean[3],
-                m->mean[4], m->mean[0], m->mean[6], m->fps());
+                r.name, r.objects, m.mode, m.mean[5], m.mean[1], m.mean[2], m.mean[3], m.mean[4],
+                m.mean[0], m.mean[6], m.fps());
     }
     md << "\nColumns: mesh updating = `mesh_update`; min, max updating = `node_update` (FFD-AABB "
           "nodes and per-object bounds); distance calculating = `sphere_test` (0 in `previous`, "
@@ -270,12 +310,11 @@ std::string table1Csv(const std::vector<SceneResult>& rs) {
                                r.paper->objects, r.paper->mesh, r.paper->minmax, r.paper->distance,
                                r.paper->floor, r.paper->objects_ms, r.paper->total,
                                1000.0 / r.paper->total);
-        for (const auto& [label, m] :
-             {std::pair{"previous", &r.previous}, std::pair{"enhanced", &r.enhanced}})
+        for (const ModeResult& m : r.modes)
             csv << fmt::format(
                 "{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f}\n", r.name,
-                r.objects, label, m->mean[5], m->mean[1], m->mean[2], m->mean[3], m->mean[4],
-                m->mean[0], m->mean[6], m->median[6], m->fps());
+                r.objects, m.mode, m.mean[5], m.mean[1], m.mean[2], m.mean[3], m.mean[4], m.mean[0],
+                m.mean[6], m.median[6], m.fps());
     }
     return csv.str();
 }
@@ -303,6 +342,7 @@ int run(const BenchFlags& flags) {
     o.warmup = int(parseInteger("--warmup", flags.warmup, 0, 10000000));
     o.objects =
         given(flags.objectsOption) ? int(parseInteger("--objects", flags.objects, 1, 100000)) : 0;
+    o.modes = parseModes(flags.modes);
     o.out = flags.out;
     o.scenes = flags.scenes;
     o.quiet = flags.quiet;
@@ -326,10 +366,11 @@ int run(const BenchFlags& flags) {
     writeTextFile((out / "table1.csv").string(), table1Csv(results));
     writeTextFile((out / "table2.md").string(), table2(results));
     std::ostringstream fig4;
-    fig4 << "scene,fps_previous,fps_enhanced,ratio,paper_ratio\n";
+    fig4 << fmt::format("scene,fps_{},fps_{},ratio,paper_ratio\n", toString(o.modes[0]),
+                        toString(o.modes[1]));
     for (const SceneResult& r : results)
-        fig4 << fmt::format("{},{:.2f},{:.2f},{:.3f},{}\n", r.name, r.previous.fps(),
-                            r.enhanced.fps(), r.enhanced.fps() / r.previous.fps(), kPaperRatio);
+        fig4 << fmt::format("{},{:.2f},{:.2f},{:.3f},{}\n", r.name, r.modes[0].fps(),
+                            r.modes[1].fps(), r.fpsRatio(), kPaperRatio);
     writeTextFile((out / "fig4.csv").string(), fig4.str());
     std::string why;
     const bool plotted = plotFig4(out / "fig4.csv", out / "fig4.png", why);
@@ -340,6 +381,7 @@ int run(const BenchFlags& flags) {
     summary["frames"] = o.frames;
     summary["warmup"] = o.warmup;
     summary["threads"] = 1;
+    summary["modes"] = {toString(o.modes[0]), toString(o.modes[1])};
     summary["seconds"] = seconds;
     summary["fig4_png"] = plotted;
     for (const SceneResult& r : results) {
@@ -348,47 +390,62 @@ int run(const BenchFlags& flags) {
         j["vertices_per_object"] = r.verticesPerObject;
         j["triangles_per_object"] = r.trianglesPerObject;
         j["cells_per_object"] = r.cellsPerObject;
-        for (const auto& [label, m] :
-             {std::pair{"previous", &r.previous}, std::pair{"enhanced", &r.enhanced}}) {
+        for (const ModeResult& m : r.modes) {
             nlohmann::json mj;
             for (int s = 0; s < kStageCount; ++s) {
-                mj["stage_ms"][kStageNames[s]] = m->mean[s];
-                mj["stage_ms_median"][kStageNames[s]] = m->median[s];
+                mj["stage_ms"][kStageNames[s]] = m.mean[s];
+                mj["stage_ms_median"][kStageNames[s]] = m.median[s];
             }
-            mj["frames_per_second"] = m->fps();
-            mj["candidate_pairs"] = m->candidatePairs;
-            mj["potential_pairs"] = m->potentialPairs;
-            mj["contacts"] = m->contacts;
-            mj["max_penetration"] = m->maxPenetration;
-            char hash[17];
-            std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(m->hash));
-            mj["state_hash"] = hash;
-            mj["finite"] = m->finite;
-            j[label] = mj;
+            mj["frames_per_second"] = m.fps();
+            mj["candidate_pairs"] = m.candidatePairs;
+            mj["potential_pairs"] = m.potentialPairs;
+            mj["contacts"] = m.contacts;
+            mj["max_penetration"] = m.maxPenetration;
+            mj["state_hash"] = hashText(m.hash);
+            mj["finite"] = m.finite;
+            j[m.mode] = mj;
         }
-        j["fps_ratio"] = r.enhanced.fps() / r.previous.fps();
-        j["object_collision_ratio"] = r.previous.mean[4] / std::max(1e-9, r.enhanced.mean[4]);
-        j["identical_trajectories"] = r.previous.hash == r.enhanced.hash;
+        j["fps_ratio"] = r.fpsRatio();
+        j["object_collision_ratio"] = r.collisionRatio();
+        j["identical_trajectories"] = r.identical();
         summary["scenes"][r.name] = j;
     }
     writeTextFile((out / "summary.json").string(), summary.dump(2) + "\n");
 
     if (!o.quiet) {
         fmt::print("\n{:<10} {:>8} {:>12} {:>12} {:>8} {:>14} {:>10}\n", "scene", "objects",
-                   "fps prev", "fps enh", "ratio", "coll. ratio", "same hash");
+                   "fps " + shortName(o.modes[0]), "fps " + shortName(o.modes[1]), "ratio",
+                   "coll. ratio", "same hash");
         for (const SceneResult& r : results)
             fmt::print("{:<10} {:>8} {:>12.1f} {:>12.1f} {:>8.2f} {:>14.2f} {:>10}\n", r.name,
-                       r.objects, r.previous.fps(), r.enhanced.fps(),
-                       r.enhanced.fps() / r.previous.fps(),
-                       r.previous.mean[4] / std::max(1e-9, r.enhanced.mean[4]),
-                       r.previous.hash == r.enhanced.hash ? "yes" : "NO");
+                       r.objects, r.modes[0].fps(), r.modes[1].fps(), r.fpsRatio(),
+                       r.collisionRatio(), r.identical() ? "yes" : "NO");
         fmt::print(
             "\nwritten to {}/: table1.md table1.csv table2.md fig4.csv {}summary.json ({:.0f} s)\n",
             out.string(), plotted ? "fig4.png " : "", seconds);
         if (!plotted) fmt::print(stderr, "ffdaabb: fig4.png not drawn: {}\n", why);
     }
+    // The verdict, printed even with --quiet: both modes must stay finite and step the same
+    // trajectory (the same contacts, in the same order, give bit-identical states).
     bool ok = true;
-    for (const SceneResult& r : results) ok = ok && r.previous.finite && r.enhanced.finite;
+    for (const SceneResult& r : results) {
+        for (const ModeResult& m : r.modes)
+            if (!m.finite) {
+                fmt::print(stderr,
+                           "ffdaabb: bench: scene {}: a particle of the {} run is not "
+                           "finite\n",
+                           r.name, m.mode);
+                ok = false;
+            }
+        if (!r.identical()) {
+            fmt::print(stderr,
+                       "ffdaabb: bench: scene {}: the trajectories differ: {} ends with state "
+                       "hash {}, {} with {} after {} frames (expected identical)\n",
+                       r.name, r.modes[0].mode, hashText(r.modes[0].hash), r.modes[1].mode,
+                       hashText(r.modes[1].hash), o.warmup + o.frames);
+            ok = false;
+        }
+    }
     return ok ? 0 : 1;
 }
 
@@ -406,6 +463,11 @@ void addBenchCommand(CLI::App& app, Action& action) {
     cmd->add_option("--warmup", o->warmup, "Untimed frames first, 0..10000000 (default 60)");
     cmd->add_option("--scenes", o->scenes,
                     "Scenes to run (default: alphabets spheres teapots buddhas)")
+        ->delimiter(',');
+    cmd->add_option("--modes", o->modes,
+                    "The two collision modes stepped side by side, from enhanced, previous, "
+                    "brute, none (default: previous,enhanced); exit 1 when their trajectories "
+                    "differ")
         ->delimiter(',');
     o->objectsOption = cmd->add_option(
         "--objects", o->objects, "Objects per scene, 1..100000 (default: the paper's counts)");

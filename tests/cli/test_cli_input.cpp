@@ -334,6 +334,12 @@ TEST(CliInput, BenchFlags) {
     expectBadInput(bench({"--objects", "0"}), {"--objects", "value 0", "1..100000"});
     expectBadInput(bench({"--objects", "many"}), {"--objects", "\"many\"", "1..100000"});
     expectBadInput(bench({"--objects", ""}), {"--objects", "\"\""});
+    expectBadInput(bench({"--modes", "enhanced"}), {"--modes", "\"enhanced\"", "expected two"});
+    expectBadInput(bench({"--modes", "enhanced,fast"}),
+                   {"--modes", "unknown mode \"fast\"", "enhanced, previous, brute, none"});
+    expectBadInput(bench({"--modes", "previous,enhanced,none"}),
+                   {"--modes", "names 3 modes", "expected two"});
+    expectBadInput(bench({"--modes", "none,none"}), {"--modes", "\"none,none\"", "same mode"});
     // Nothing is written for a bad flag.
     EXPECT_FALSE(fs::exists(dir / "b"));
 }

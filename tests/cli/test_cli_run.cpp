@@ -144,3 +144,38 @@ TEST(CliBench, WritesTablesAndFigureWithIdenticalModes) {
     EXPECT_NE(table1.find("334.28"), std::string::npos); // the paper's spheres total beside ours
     EXPECT_NE(readFile(dir / "b" / "table2.md").find("6400"), std::string::npos);
 }
+
+TEST(CliBench, DifferentTrajectoriesExitOneNamingTheSceneAndHashes) {
+    // `none` lets the spheres pass through each other where `enhanced` makes them collide: a real
+    // mismatch of the two trajectories, which bench must report and fail on.
+    TempDir dir;
+    const RunResult r =
+        runCli({"bench", "--frames", "10", "--warmup", "2", "--objects", "8", "--scenes", "spheres",
+                "--modes", "enhanced,none", "--out", (dir / "b").string(), "--quiet"});
+    EXPECT_EQ(r.status, 1) << r.err;
+    // The results are still written, with the verdict in them.
+    const auto j = nlohmann::json::parse(readFile(dir / "b" / "summary.json"));
+    EXPECT_EQ(j["modes"], (nlohmann::json{"enhanced", "none"}));
+    const auto& s = j["scenes"]["spheres"];
+    EXPECT_GT(s["enhanced"]["contacts"].get<double>(), 0); // the bodies did touch
+    EXPECT_EQ(s["none"]["contacts"].get<double>(), 0);
+    EXPECT_FALSE(s["identical_trajectories"].get<bool>());
+    const std::string a = s["enhanced"]["state_hash"], b = s["none"]["state_hash"];
+    ASSERT_NE(a, b);
+    // One message, printed even with --quiet, naming the scene and both hashes.
+    EXPECT_EQ(r.out, "");
+    EXPECT_NE(r.err.find("scene spheres"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("trajectories differ"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("enhanced ends with state hash " + a), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("none with " + b), std::string::npos) << r.err;
+    EXPECT_NE(readFile(dir / "b" / "fig4.csv").find("scene,fps_enhanced,fps_none,"),
+              std::string::npos);
+    EXPECT_NE(readFile(dir / "b" / "table1.md").find("ours, none"), std::string::npos);
+
+    // Two modes that find the same contacts (brute is the oracle) agree: exit 0.
+    const RunResult same =
+        runCli({"bench", "--frames", "10", "--warmup", "2", "--objects", "8", "--scenes", "spheres",
+                "--modes", "brute,enhanced", "--out", (dir / "c").string(), "--quiet"});
+    EXPECT_EQ(same.status, 0) << same.err;
+    EXPECT_EQ(same.err, "");
+}
