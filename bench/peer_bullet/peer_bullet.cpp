@@ -1,12 +1,14 @@
 // ffdaabb_peer_bullet: the peer benchmark. Runs one of our scenes (by default the paper's 100
 // spheres) in Bullet's soft-body world (btSoftRigidDynamicsWorld) with cluster (CL_SS) and
 // vertex-face (VF_SS) soft-soft collisions, and in our World, single-threaded, in one process:
-// milliseconds per frame and one interpenetration measure (bench/common) for all of them.
+// milliseconds per frame (mean and median over the same frames, from frame 0 and after the
+// warm-up) and one interpenetration measure (bench/common) for all of them.
 //
 // The layout, meshes and masses come from ffd::buildScene, so Bullet gets exactly our posed
 // 162-vertex spheres, our masses and initial velocities. What Bullet's material is made of,
 // and why, is in BulletMaterial below.
 #include "interpenetration.h"
+#include "sample_stats.h"
 
 #include "ffdaabb/error.h"
 #include "ffdaabb/scene.h"
@@ -27,7 +29,6 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
-#include <numeric>
 #include <string>
 #include <thread>
 #include <vector>
@@ -269,26 +270,28 @@ private:
 
 // --- one run, either engine -------------------------------------------------------------------
 
+/// Milliseconds per frame over a run of frames (bench/common/sample_stats.h: the true median).
 struct FrameStats {
-    double median = 0, mean = 0, p90 = 0, min = 0, max = 0;
+    int frames = 0;
+    double mean = 0, median = 0, p90 = 0, min = 0, max = 0;
 };
 
-FrameStats statsOf(std::vector<double> ms) {
+FrameStats statsOf(std::span<const double> ms) {
     FrameStats s;
     if (ms.empty()) return s;
-    std::sort(ms.begin(), ms.end());
-    auto at = [&](double q) {
-        const double pos = q * double(ms.size() - 1);
-        const size_t lo = size_t(pos);
-        const size_t hi = std::min(lo + 1, ms.size() - 1);
-        return ms[lo] + (ms[hi] - ms[lo]) * (pos - double(lo));
-    };
-    s.median = at(0.5);
-    s.p90 = at(0.9);
-    s.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
-    s.min = ms.front();
-    s.max = ms.back();
+    const std::vector<double> v(ms.begin(), ms.end());
+    s.frames = int(v.size());
+    s.mean = mean(v);
+    s.median = median(v);
+    s.p90 = quantile(v, 0.9);
+    s.min = *std::min_element(v.begin(), v.end());
+    s.max = *std::max_element(v.begin(), v.end());
     return s;
+}
+
+/// a / b, or 0 when b is not positive (a skipped run).
+double ratio(double a, double b) {
+    return b > 0 ? a / b : 0.0;
 }
 
 /// Shape figures of the final state: is a ball still a ball?
@@ -312,8 +315,10 @@ struct RunResult {
     std::string engine;
     std::string collisions; ///< "enhanced" for ours, CL_SS / VF_SS for Bullet
     double buildMs = 0;
-    std::vector<double> frameMs;
-    FrameStats stats;
+    int warmup = 0;
+    std::vector<double> frameMs; ///< every frame's time, from frame 0 (warm-up included)
+    FrameStats fromStart;        ///< over every frame, from frame 0
+    FrameStats afterWarmup;      ///< over the frames after the first `warmup`
     Interpenetration final;
     Interpenetration sampled;  ///< worst over the samples (every sampleEvery frames, and final)
     double measureSeconds = 0; ///< spent measuring (untimed)
@@ -336,8 +341,9 @@ struct RunSettings {
 };
 
 /// Steps `stepFrame` (one frame including reading the vertices back) warmup + frames times,
-/// timing the last `frames`, measuring every sampleEvery frames (from the first, warm-up
-/// included: the falling layers meet in the first second) and after the last.
+/// timing every frame (summed from frame 0 and after the warm-up), measuring every sampleEvery
+/// frames (from the first, warm-up included: the falling layers meet in the first second) and
+/// after the last.
 template <typename StepFrame, typename Vertices>
 void runFrames(RunResult& r, const RunSettings& rs, const SceneStart& start, StepFrame&& stepFrame,
                Vertices&& vertices) {
@@ -360,7 +366,6 @@ void runFrames(RunResult& r, const RunSettings& rs, const SceneStart& start, Ste
     };
     long substeps = 0;
     for (int f = 0; f < rs.warmup + rs.frames; ++f) {
-        const bool timed = f >= rs.warmup;
         const auto t0 = Clock::now();
         const int taken = stepFrame();
         const auto t1 = Clock::now();
@@ -378,7 +383,7 @@ void runFrames(RunResult& r, const RunSettings& rs, const SceneStart& start, Ste
                        centre / double(std::max<size_t>(1, count)), p.nearBodies, p.minGap,
                        p.maxDepth);
         }
-        if (timed) r.frameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        r.frameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
         if (r.finiteEveryFrame && !allFinite()) {
             r.finiteEveryFrame = false;
             r.firstNonFiniteFrame = f;
@@ -391,7 +396,9 @@ void runFrames(RunResult& r, const RunSettings& rs, const SceneStart& start, Ste
     r.final = measure();
     keepWorst(r.sampled, r.final);
     ++r.samples;
-    r.stats = statsOf(r.frameMs);
+    r.warmup = rs.warmup;
+    r.fromStart = statsOf(r.frameMs);
+    r.afterWarmup = statsOf(std::span<const double>(r.frameMs).subspan(size_t(rs.warmup)));
     r.substepsPerFrame = double(substeps) / double(std::max(1, rs.warmup + rs.frames));
 
     ShapeFigures& s = r.shape;
@@ -486,19 +493,25 @@ nlohmann::json toJson(const Interpenetration& p) {
             {"finite", p.finite}};
 }
 
+nlohmann::json toJson(const FrameStats& s) {
+    return {{"frames", s.frames}, {"mean", s.mean}, {"median", s.median},
+            {"p90", s.p90},       {"min", s.min},   {"max", s.max}};
+}
+
 nlohmann::json toJson(const RunResult& r, const RunResult& ours) {
+    const auto warmup = std::span<const double>(r.frameMs).first(size_t(r.warmup));
+    const auto timed = std::span<const double>(r.frameMs).subspan(size_t(r.warmup));
     nlohmann::json j = {
         {"engine", r.engine},
         {"collisions", r.collisions},
         {"build_ms", r.buildMs},
-        {"ms_per_frame",
-         {{"median", r.stats.median},
-          {"mean", r.stats.mean},
-          {"p90", r.stats.p90},
-          {"min", r.stats.min},
-          {"max", r.stats.max}}},
-        {"median_ratio_to_ffdaabb", ours.stats.median > 0 ? r.stats.median / ours.stats.median : 0},
-        {"mean_ratio_to_ffdaabb", ours.stats.mean > 0 ? r.stats.mean / ours.stats.mean : 0},
+        // After the warm-up (the frames after --warmup), as before; then from frame 0.
+        {"ms_per_frame", toJson(r.afterWarmup)},
+        {"mean_ratio_to_ffdaabb", ratio(r.afterWarmup.mean, ours.afterWarmup.mean)},
+        {"median_ratio_to_ffdaabb", ratio(r.afterWarmup.median, ours.afterWarmup.median)},
+        {"ms_per_frame_from_frame_0", toJson(r.fromStart)},
+        {"mean_ratio_to_ffdaabb_from_frame_0", ratio(r.fromStart.mean, ours.fromStart.mean)},
+        {"median_ratio_to_ffdaabb_from_frame_0", ratio(r.fromStart.median, ours.fromStart.median)},
         {"substeps_per_frame", r.substepsPerFrame},
         {"finite_every_frame", r.finiteEveryFrame},
         {"first_non_finite_frame", r.firstNonFiniteFrame},
@@ -512,7 +525,8 @@ nlohmann::json toJson(const RunResult& r, const RunResult& ours) {
           {"min_volume_ratio", r.shape.minVolumeRatio}}},
         {"wall_seconds", r.wallSeconds},
         {"measure_seconds", r.measureSeconds},
-        {"frame_ms", r.frameMs}};
+        {"warmup_frame_ms", std::vector<double>(warmup.begin(), warmup.end())},
+        {"frame_ms", std::vector<double>(timed.begin(), timed.end())}};
     if (r.activeBodies >= 0) j["active_bodies_at_end"] = r.activeBodies;
     return j;
 }
@@ -528,30 +542,48 @@ std::string cpuModel() {
     return "unknown";
 }
 
-void printTable(const std::vector<RunResult>& runs) {
+// Time per frame over the same frames for every engine, from frame 0 and after the warm-up:
+// mean first, then median and p90, and each engine's mean and median over ours.
+void printTimes(const std::vector<RunResult>& runs, const RunSettings& rs) {
     const RunResult& ours = runs.front();
-    fmt::print("\n{:<17} {:>8} {:>8} {:>8} {:>7} | {:>5} {:>6} {:>5} {:>9} {:>7} {:>9} {:>8} "
-               "{:>7} {:>6} {:>6}\n",
-               "engine", "median", "mean", "p90", "x ours", "pairs", "inside", "deep", "max depth",
-               "/diam", "mean dep", "lowest y", "gap", "vol", "finite");
-    fmt::print("{:<17} {:>8} {:>8} {:>8} {:>7} | {:>5} {:>6} {:>5} {:>9} {:>7} {:>9} {:>8} "
-               "{:>7} {:>6} {:>6}\n",
-               "", "ms", "ms", "ms", "median", "", "verts", "verts", "m", "", "m", "m", "m", "min",
-               "");
-    for (const RunResult& r : runs)
+    const std::string all = fmt::format("from frame 0 ({} frames)", rs.warmup + rs.frames);
+    const std::string after =
+        fmt::format("after the {} warm-up frames ({} frames)", rs.warmup, rs.frames);
+    fmt::print("\ntime per frame, ms (x ours: the engine's mean or median / ours)\n");
+    fmt::print("{:<17} | {:^44} | {:^44}\n", "", all, after);
+    fmt::print("{:<17}", "engine");
+    for (int part = 0; part < 2; ++part)
+        fmt::print(" | {:>8} {:>8} {:>8} {:>8} {:>8}", "mean", "median", "p90", "x mean",
+                   "x median");
+    fmt::print("\n");
+    auto ratioText = [](double x) { return x > 0 ? fmt::format("{:.2f}", x) : std::string("-"); };
+    for (const RunResult& r : runs) {
+        if (r.frameMs.empty()) continue;
+        fmt::print("{:<17}", r.engine + " " + r.collisions);
+        for (const auto& [stats, base] : {std::pair{&r.fromStart, &ours.fromStart},
+                                          std::pair{&r.afterWarmup, &ours.afterWarmup}})
+            fmt::print(" | {:>8.3f} {:>8.3f} {:>8.3f} {:>8} {:>8}", stats->mean, stats->median,
+                       stats->p90, ratioText(ratio(stats->mean, base->mean)),
+                       ratioText(ratio(stats->median, base->median)));
+        fmt::print("\n");
+    }
+}
+
+void printInterpenetration(const std::vector<RunResult>& runs) {
+    fmt::print("\n{:<17} | {:>5} {:>6} {:>5} {:>9} {:>7} {:>9} {:>8} {:>7} {:>6} {:>6}\n", "engine",
+               "pairs", "inside", "deep", "max depth", "/diam", "mean dep", "lowest y", "gap",
+               "vol", "finite");
+    fmt::print("{:<17} | {:>5} {:>6} {:>5} {:>9} {:>7} {:>9} {:>8} {:>7} {:>6} {:>6}\n", "", "",
+               "verts", "verts", "m", "", "m", "m", "m", "min", "");
+    for (const RunResult& r : runs) {
+        if (r.frameMs.empty()) continue;
         for (int which = 0; which < 2; ++which) {
             const Interpenetration& p = which == 0 ? r.final : r.sampled;
             const std::string name =
                 which == 0 ? r.engine + " " + r.collisions : "  (worst sample)";
-            if (which == 0)
-                fmt::print("{:<17} {:>8.3f} {:>8.3f} {:>8.3f} {:>7.2f} | ", name, r.stats.median,
-                           r.stats.mean, r.stats.p90,
-                           ours.stats.median > 0 ? r.stats.median / ours.stats.median : 0.0);
-            else
-                fmt::print("{:<17} {:>8} {:>8} {:>8} {:>7} | ", name, "", "", "", "");
-            fmt::print("{:>5} {:>6} {:>5} {:>9.4f} {:>7.4f} {:>9.4f} {:>8.4f} {:>7} {:>6} "
-                       "{:>6}\n",
-                       p.bodyPairs, p.insideVertices, p.deepVertices, p.maxDepth,
+            fmt::print("{:<17} | {:>5} {:>6} {:>5} {:>9.4f} {:>7.4f} {:>9.4f} {:>8.4f} {:>7} "
+                       "{:>6} {:>6}\n",
+                       name, p.bodyPairs, p.insideVertices, p.deepVertices, p.maxDepth,
                        p.maxDepthRelative, p.meanDepth, p.lowestY,
                        p.nearBodies == 0
                            ? std::string("-")
@@ -559,6 +591,7 @@ void printTable(const std::vector<RunResult>& runs) {
                        which == 0 ? fmt::format("{:.3f}", r.shape.minVolumeRatio) : "",
                        which == 0 ? (r.finiteEveryFrame ? "yes" : "NO") : "");
         }
+    }
 }
 
 int run(int argc, char** argv) {
@@ -573,10 +606,11 @@ int run(int argc, char** argv) {
     app.add_option("--scene", sceneName, "scene name or .json file")->capture_default_str();
     app.add_option("--objects", objects, "object count (0 = the scene's)")
         ->check(CLI::NonNegativeNumber);
-    app.add_option("--frames", rs.frames, "timed frames")
+    app.add_option("--frames", rs.frames, "frames after the warm-up")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
-    app.add_option("--warmup", rs.warmup, "frames stepped before timing")
+    app.add_option("--warmup", rs.warmup,
+                   "warm-up frames: timed, and left out of the after-warm-up figures")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
     app.add_option("--sample-every", rs.sampleEvery,
@@ -623,10 +657,12 @@ int run(int argc, char** argv) {
     SceneStart start = startScene(sceneName, objects, threads);
     rs.measure.referenceSize = start.referenceSize;
     rs.measure.floorHeight = start.scene.world.floorHeight;
-    fmt::print("scene {}: {} bodies, {} vertices, {} triangles; {} frames after {} warm-up; "
-               "our threads {}, Bullet scheduler '{}' with {} thread(s)\n",
+    fmt::print("scene {}: {} bodies, {} vertices, {} triangles; {} frames, timed from frame 0 "
+               "and after the {} warm-up frames; our threads {}, Bullet scheduler '{}' with {} "
+               "thread(s)\n",
                start.scene.name, start.bodies.size(), start.build.vertices, start.build.triangles,
-               rs.frames, rs.warmup, threads, btGetTaskScheduler()->getName(), bulletThreads);
+               rs.warmup + rs.frames, rs.warmup, threads, btGetTaskScheduler()->getName(),
+               bulletThreads);
 
     std::vector<RunResult> runs;
     if (!skipOurs) {
@@ -650,7 +686,8 @@ int run(int argc, char** argv) {
         links = l;
         if (c == BulletCollisions::Clusters) clusters = k;
     }
-    printTable(runs);
+    printTimes(runs, rs);
+    printInterpenetration(runs);
     fmt::print("\ndepths: distance of a vertex inside another body to that body's surface; "
                "'deep': over {:.0f} % of the {:.2f} m diameter; worst sample: field-wise worst "
                "over every {} frames (warm-up included) and the end; gap: median over bodies of "
