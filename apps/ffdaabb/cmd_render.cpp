@@ -115,7 +115,8 @@ std::optional<render::Camera> parseCamera(const std::string& text, float fov) {
 int runRender(const RenderCommandOptions& o) {
     const RenderValues v = parseValues(o, false);
     if (o.out.empty())
-        throw InputError("--out", "missing (expected FILE.mp4, a folder, or name_%04d.png)");
+        throw InputError("--out", "missing (expected FILE.mp4, FILE.png, a folder, or "
+                                  "name_%04d.png)");
     render::RenderSettings s;
     s.width = v.width, s.height = v.height, s.frames = v.frames, s.stepsPerFrame = v.steps;
     s.fps = v.fps;
@@ -219,7 +220,8 @@ void addRenderCommands(CLI::App& app, Action& action) {
     addCommonOptions(render, *o, false);
     render->add_option("--frames", o->frames, "Images to produce, 1..100000 (default 120)");
     render->add_option("--out", o->out,
-                       "FILE.mp4, a folder (frame_00000.png ...), or name_%04d.png");
+                       "FILE.mp4 (video), FILE.png (the last frame), name_%04d.png, or a folder "
+                       "(a path without an extension, made if missing): frame_00000.png ...");
     render->add_option("--fps", o->fps, "Video frame rate, 1..1000 (default 60)");
     auto v = std::make_shared<RenderCommandOptions>();
     v->frames = "0";

@@ -273,8 +273,12 @@ RenderStats renderFrames(const WorldFactory& makeWorld, const RenderSettings& se
 /// Same, written to `output`:
 ///   "*.mp4"                      a video (VideoWriter);
 ///   a pattern with "%d" / "%0Nd"  one PNG per image, the image index substituted;
-///   an existing folder, or a path ending in '/' (created): frame_00000.png, ... inside it;
-///   any other "*.png"            the last image only (a still after `frames` frames).
+///   an existing folder, a path ending in '/' or a path without an extension (made, with the
+///   parents it lacks): frame_00000.png, ... inside it;
+///   any other "*.png"            the last image only (a still after `frames` frames);
+///   anything else (another extension) is an InputError naming the kinds above.
+/// When it fails (InputError, RenderError, or an exception from `makeWorld` or `progress`), the
+/// PNG files it wrote and the folders it made are removed: nothing is left half-written.
 RenderStats renderFrames(const WorldFactory& makeWorld, const RenderSettings& settings,
                          const std::filesystem::path& output);
 

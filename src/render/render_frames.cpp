@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <system_error>
+#include <vector>
 
 namespace ffd::render {
 
@@ -58,6 +60,57 @@ bool parsePattern(const std::string& text, Pattern& out) {
     return true;
 }
 
+namespace fs = std::filesystem;
+
+/// The PNG files of one sequence and the folders made for them. Unless committed, the
+/// destructor removes them again (files written, then the folders made, deepest first), so
+/// that a render that fails or is interrupted by an exception leaves nothing half-written.
+class SequenceOutput {
+public:
+    SequenceOutput() = default;
+    SequenceOutput(const SequenceOutput&) = delete;
+    SequenceOutput& operator=(const SequenceOutput&) = delete;
+    ~SequenceOutput() {
+        if (committed_) return;
+        std::error_code ec;
+        for (const fs::path& file : written_) fs::remove(file, ec);
+        for (auto it = created_.rbegin(); it != created_.rend(); ++it) fs::remove(*it, ec);
+    }
+
+    /// Makes `folder` and the parents it lacks (InputError naming `text` when a part of it is a
+    /// file or cannot be made).
+    void makeFolder(const std::string& text, const fs::path& folder) {
+        std::vector<fs::path> missing;
+        fs::path p = folder.has_filename() ? folder : folder.parent_path(); // "a/b/" -> "a/b"
+        while (!p.empty() && !fs::exists(p)) {
+            missing.push_back(p);
+            if (!p.has_parent_path() || p.parent_path() == p) break;
+            p = p.parent_path();
+        }
+        if (!p.empty() && fs::exists(p) && !fs::is_directory(p))
+            throw InputError(text, "cannot make the folder: " + p.string() +
+                                       " exists and is not a folder");
+        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+            std::error_code ec;
+            if (!fs::create_directory(*it, ec) && !fs::is_directory(*it))
+                throw InputError(text, "cannot make the folder " + it->string() + ": " +
+                                           (ec ? ec.message() : "unknown error"));
+            created_.push_back(*it);
+        }
+    }
+
+    void write(const Image& image, const fs::path& file) {
+        writePng(image, file); // atomic: nothing at `file` when it throws
+        written_.push_back(file);
+    }
+
+    void commit() { committed_ = true; }
+
+private:
+    std::vector<fs::path> created_, written_;
+    bool committed_ = false;
+};
+
 } // namespace
 
 RenderStats renderFrames(const WorldFactory& makeWorld, const RenderSettings& settings,
@@ -111,26 +164,36 @@ RenderStats renderFrames(const WorldFactory& makeWorld, const RenderSettings& se
 
     Pattern pattern;
     bool sequence = parsePattern(text, pattern);
-    if (!sequence && (text.back() == '/' || std::filesystem::is_directory(output))) {
-        std::filesystem::create_directories(output);
+    SequenceOutput files;
+    // A folder: one that exists, a path ending in '/', or a path without an extension (made,
+    // with the parents it lacks).
+    if (!sequence && (text.back() == '/' || fs::is_directory(output) || extension.empty())) {
+        if (fs::exists(output) && !fs::is_directory(output))
+            throw InputError(text, "exists and is not a folder (a path without an extension is "
+                                   "a folder for the frames)");
+        files.makeFolder(text, output);
         pattern.before = (output / "frame_").string();
         pattern.after = ".png";
         pattern.width = 5, pattern.zeroPad = true;
         sequence = true;
     }
     if (sequence) {
-        const std::filesystem::path first(pattern.name(0));
-        if (first.has_parent_path() && !std::filesystem::is_directory(first.parent_path()))
+        const fs::path first(pattern.name(0));
+        if (first.has_parent_path() && !fs::is_directory(first.parent_path()))
             throw InputError(text, "cannot write: the folder " + first.parent_path().string() +
                                        " does not exist");
-        return renderFrames(makeWorld, settings, [&](int index, const Image& image) {
-            writePng(image, pattern.name(index));
+        RenderStats stats = renderFrames(makeWorld, settings, [&](int index, const Image& image) {
+            files.write(image, pattern.name(index));
         });
+        files.commit();
+        return stats;
     }
     if (extension != ".png")
-        throw InputError(text, "unknown output kind: expected a .mp4 or .png file, a frame "
-                               "pattern such as frame_%05d.png, or a folder");
-    if (output.has_parent_path() && !std::filesystem::is_directory(output.parent_path()))
+        throw InputError(text, "unknown output kind \"" + extension + "\"" +
+                                   ": expected FILE.mp4 (a video), FILE.png (the last frame), a "
+                                   "frame pattern such as frame_%05d.png, or a folder (a path "
+                                   "without an extension, or ending in '/')");
+    if (output.has_parent_path() && !fs::is_directory(output.parent_path()))
         throw InputError(text, "cannot write: the folder " + output.parent_path().string() +
                                    " does not exist");
     Image last;

@@ -109,6 +109,11 @@ TEST(RenderOutput, PngSequenceWritesOneFilePerFrame) {
     EXPECT_EQ(filesIn(folder),
               (std::vector<std::string>{"frame_00000.png", "frame_00001.png", "frame_00002.png"}));
 
+    // A path without an extension is a folder too, made with the parents it lacks.
+    const fs::path made = dir / "a" / "new" / "folder";
+    render::renderFrames(column, small(2), made);
+    EXPECT_EQ(filesIn(made), (std::vector<std::string>{"frame_00000.png", "frame_00001.png"}));
+
     // A plain .png: the last frame only, identical to the last image of the same run.
     render::Image last;
     render::renderFrames(column, small(4), [&](int, const render::Image& i) { last = i; });
@@ -185,4 +190,62 @@ TEST(RenderOutput, BadSettingsAndOutputsAreInputErrors) {
     EXPECT_THROW(render::renderFrames(column, small(1), dir / "missing" / "a.png"), InputError);
     EXPECT_THROW(render::renderFrames(column, small(1), dir / "missing" / "f_%d.png"), InputError);
     EXPECT_TRUE(filesIn(dir.path()).empty());
+    // A file where the folder (a path without an extension) would be, or one of its parents.
+    writeFile(dir / "plain", "x");
+    EXPECT_THROW(render::renderFrames(column, small(1), dir / "plain"), InputError);
+    EXPECT_THROW(render::renderFrames(column, small(1), dir / "plain" / "frames"), InputError);
+    EXPECT_EQ(filesIn(dir.path()), std::vector<std::string>{"plain"});
+    // The kinds written are named for an unknown extension.
+    try {
+        render::renderFrames(column, small(1), dir / "a.jpg");
+        ADD_FAILURE() << "a.jpg was accepted";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        for (const char* part : {"a.jpg", "\".jpg\"", ".mp4", ".png", "frame_%05d.png", "folder"})
+            EXPECT_NE(m.find(part), std::string::npos) << part << " in " << m;
+    }
+}
+
+TEST(RenderOutput, AFailedSequenceLeavesNothingBehind) {
+    TempDir dir;
+    // Fails after the second image has been written.
+    render::RenderSettings s = small(4);
+    s.progress = [](int done, int) {
+        if (done == 2) throw render::RenderError("stopped");
+    };
+    // A folder made for the run: removed with its frames, and the parents made for it.
+    EXPECT_THROW(render::renderFrames(column, s, dir / "a" / "b" / "frames"), render::RenderError);
+    EXPECT_TRUE(filesIn(dir.path()).empty());
+    // A world that cannot be made: nothing rendered, the folder made removed.
+    const render::WorldFactory broken = []() -> World { throw InputError("scene", "broken"); };
+    EXPECT_THROW(render::renderFrames(broken, small(1), dir / "c" / "frames"), InputError);
+    EXPECT_TRUE(filesIn(dir.path()).empty());
+    // An existing folder and a pattern: the folder stays, the frames written go.
+    fs::create_directory(dir / "kept");
+    writeFile(dir / "kept" / "other.txt", "mine");
+    EXPECT_THROW(render::renderFrames(column, s, dir / "kept"), render::RenderError);
+    EXPECT_THROW(render::renderFrames(column, s, dir / "kept" / "f_%02d.png"), render::RenderError);
+    EXPECT_EQ(filesIn(dir / "kept"), std::vector<std::string>{"other.txt"});
+    EXPECT_EQ(filesIn(dir.path()), std::vector<std::string>{"kept"});
+}
+
+TEST(RenderOutput, CliRenderMakesTheOutFolder) {
+    // `ffdaabb render --out DIR`: a path without an extension is a folder, made with its parents.
+    TempDir dir;
+    const fs::path out = dir / "a" / "new" / "folder";
+    const RunResult r =
+        runCli({"render", "--scene", "spheres", "--objects", "4", "--frames", "3", "--width", "64",
+                "--height", "48", "--quiet", "--out", out.string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(filesIn(out),
+              (std::vector<std::string>{"frame_00000.png", "frame_00001.png", "frame_00002.png"}));
+    const render::Image first = render::readPng(out / "frame_00000.png");
+    EXPECT_EQ(first.width, 64);
+    EXPECT_EQ(first.height, 48);
+    // An unknown extension is still refused, naming it, and nothing is made.
+    const RunResult bad = runCli({"render", "--scene", "spheres", "--objects", "4", "--frames", "1",
+                                  "--quiet", "--out", (dir / "b" / "x.gif").string()});
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("unknown output kind \".gif\""), std::string::npos) << bad.err;
+    EXPECT_EQ(filesIn(dir.path()), std::vector<std::string>{"a"});
 }
