@@ -183,6 +183,8 @@ struct CollisionState {
     std::vector<uint32_t> partnerStart, partners; ///< CSR of each body's candidate partners
     std::vector<uint8_t> isCandidate;             ///< per body
     std::vector<uint32_t> sweepOrder;
+    std::vector<float> sweepLo, sweepHi; ///< per body, its extent along x in the sweep
+    std::vector<float> reach, skin;      ///< per body, its terms of the margin (pipeline.cpp)
     SpatialHash hash;
     std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
@@ -191,7 +193,10 @@ struct CollisionState {
     uint32_t stamp = 0;
     std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object
-    std::vector<Aabb> partnerBounds, prefixBounds, suffixBounds;
+    /// Per body, its bounds grown by its reach and by its skin and reach; a body's partners'
+    /// of each; for `previous`, their prefix and suffix unions.
+    std::vector<Aabb> reachBounds, queryBounds, partnerBounds, partnerQueryBounds;
+    std::vector<Aabb> prefixBounds, suffixBounds, prefixQueryBounds, suffixQueryBounds;
     std::vector<uint8_t> boxFlags; ///< per box: queried, hashed (this substep)
     /// This substep's contacts: the objects' (canonical order), then the floor's.
     std::vector<Contact> all;

@@ -24,17 +24,41 @@ namespace {
 // nearer one face and changed the paper scenes' piles for the worse.
 constexpr float kTieTolerance = 0.2f;
 
-// Contact margin between a node of A and a box of B: B's skin plus how far the two can close
-// in one substep (speculative contacts: found before they touch, so the velocity solve can
-// stop them at the surface however fast they come).
-// Any point of A moves relative to any point of B by at most |V_A - V_B| + D_A + D_B (mean
-// velocities and largest deviations from them): bodies falling together get a thin margin.
-float relativeSpeedBound(const BodyRecord& a, const BodyRecord& b) {
-    return length(a.meanVelocity - b.meanVelocity) + a.spread + b.spread;
+// The reach every hash query covers beyond its box, as a share of the hash cell: a node whose
+// body's reach is larger is stored in the cells of its cube shrunk by this much
+// (spatial_hash.h). Measured against the rule before per-body reaches (alphabets, spheres; 200
+// frames, enhanced): 0 (every fast node in every cell its cube meets) 1.42x and 1.39x the
+// time, 1/8 1.21x and 1.17x, 1/4 1.09x and 1.18x, 1/2 1.06x and 1.40x.
+constexpr float kReachAllowance = 0.25f;
+
+// How far any node of a body can travel in one substep, as |V| + D (mean velocity and largest
+// deviation from it; a node is a convex blend of its cell's particles, so none is faster than
+// the fastest particle, and none of those is faster than |V| + D).
+float reachOf(const WorldData& w, const BodyRecord& b) {
+    return w.substep * (length(b.meanVelocity) + b.spread);
 }
 
+// Contact margin between a node of A and a box of B: B's skin plus how far the two can close
+// in one substep (speculative contacts: found before they touch, so the velocity solve can
+// stop them at the surface however fast they come). Any point of A moves relative to any point
+// of B by at most |V_A - V_B| + D_A + D_B (mean velocities and largest deviations from them):
+// bodies falling together get a thin margin.
 float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
-    return skinOf(w, b) + w.substep * relativeSpeedBound(a, b);
+    return skinOf(w, b) +
+           w.substep * (length(a.meanVelocity - b.meanVelocity) + a.spread + b.spread);
+}
+
+// The margin is never more than B's skin plus each body's own reach, reachOf(A) + reachOf(B)
+// (|V_A - V_B| + D_A + D_B <= |V_A| + D_A + |V_B| + D_B). Finding the node/box pairs to test
+// by these per-body terms
+// makes what a box queries and how far a node reaches depend on their own bodies only: every
+// mode tests the same node/box pairs for a pair of bodies, whichever other bodies it also
+// tests, and the pair's margin then decides (findObjectContacts).
+
+// A body's share of the largest margin phase 1 may allow its pairs (twice its skin and reach:
+// 2 marginOf(A, B) <= 2 (max(skin A, skin B) + reach A + reach B)), for the sweep's window.
+float sweepMargin(const WorldData& w, const BodyRecord& b) {
+    return 2.0f * (skinOf(w, b) + reachOf(w, b));
 }
 
 // Push-out of deep overlap: what the projections leave of a contact's overlap in this substep
@@ -196,23 +220,28 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     out.clear();
     const uint32_t n = uint32_t(w.bodies.size());
     std::vector<uint32_t>& order = w.collision.sweepOrder;
+    std::vector<float>& lo = w.collision.sweepLo;
+    std::vector<float>& hi = w.collision.sweepHi;
     order.resize(n);
-    float maxSkin = 0, maxSpeed = 0;
+    lo.resize(n);
+    hi.resize(n);
+    // Each body's extent along x: its sphere grown by its own share of the largest margin
+    // (sweepMargin), so two spheres that pass the test always have overlapping extents,
+    // however uneven their particles' velocities. The extents are padded by a little more than
+    // the rounding of either computation can shift them.
     for (uint32_t i = 0; i < n; ++i) {
+        const BodyRecord& r = w.bodies[i];
+        const float half = r.sphereRadius + sweepMargin(w, r);
+        const float pad = 1e-5f * (half + std::abs(r.sphereCentre.x));
         order[i] = i;
-        maxSkin = maxNum(maxSkin, skinOf(w, w.bodies[i]));
-        maxSpeed = maxNum(maxSpeed, w.bodies[i].maxSpeed);
+        lo[i] = r.sphereCentre.x - half - pad;
+        hi[i] = r.sphereCentre.x + half + pad;
     }
-    const float maxMargin = 2.0f * (maxSkin + 2.0f * w.substep * maxSpeed);
-    auto lo = [&](uint32_t i) { return w.bodies[i].sphereCentre.x - w.bodies[i].sphereRadius; };
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        const float la = lo(a), lb = lo(b);
-        return la < lb || (la == lb && a < b);
-    });
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
     for (uint32_t k = 0; k < n; ++k) {
         const uint32_t i = order[k];
-        const float reach = w.bodies[i].sphereCentre.x + w.bodies[i].sphereRadius + maxMargin;
-        for (uint32_t m = k + 1; m < n && lo(order[m]) <= reach; ++m) {
+        for (uint32_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
             const uint32_t j = order[m];
             if (spheresOverlap(w, i, j)) out.push_back({std::min(i, j), std::max(i, j)});
         }
@@ -319,6 +348,14 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         std::fill(s.nodeStamp.begin(), s.nodeStamp.end(), 0);
         s.stamp = 1;
     }
+    // Each body's terms of the bound on the margin (marginOf): its nodes' reach and its boxes'
+    // skin.
+    s.reach.resize(n);
+    s.skin.resize(n);
+    for (uint32_t b = 0; b < n; ++b) {
+        s.reach[b] = reachOf(w, w.bodies[b]);
+        s.skin[b] = skinOf(w, w.bodies[b]);
+    }
     // A node keeps at most kMaxContactsPerNode contacts (one per box that holds it), the
     // first by rank: a boundary box before an interior one (an interior box has no face
     // leading out of its body), then the deeper (signed distance to the exit face), then the
@@ -334,19 +371,21 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         bits = (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
         return (uint64_t(interior) << 63) | (uint64_t(bits) << 31) | box;
     };
+    // Node `node` of body A at p, whose cube of A's reach meets box `box` of body B grown by
+    // B's skin and reach (SpatialHash::cubeMeets: the one test every mode applies before
+    // this): the node/box test of phase 3, within the pair's margin (marginOf(A, B)).
     auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
                        float margin) {
-        ++outPotential;
         if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
+        ++outPotential;
         const BodyRecord& B = w.bodies[bodyB];
-        if (!w.boxBounds[box].contains(p, margin)) return;
         if (s.planeStamp[box] != s.stamp) {
             s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
             s.planeStamp[box] = s.stamp;
         }
         const uint8_t outside = B.model->lattice.boxes[box - B.firstBox].outsideFaces;
         NodeBoxHit hit = testNodeInBox(s.planes[box], w.boxBounds[box], outside, p, margin,
-                                       kTieTolerance * skinOf(w, B));
+                                       kTieTolerance * s.skin[bodyB]);
         if (!hit.inside) return;
         if (hit.tied & (hit.tied - 1)) {
             // A node at an edge or corner of the box: settled by the side its own box lies on.
@@ -381,29 +420,37 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                 if (slots.rank[k] > slots.rank[slots.last]) slots.last = k;
         }
     };
+    auto grow = [](const Aabb& a, float r) {
+        return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
+    };
 
     if (mode == CollisionMode::Brute) {
         for (uint32_t b = 0; b < n; ++b) {
             const BodyRecord& B = w.bodies[b];
-            for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box)
+            for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
+                const Aabb grown = grow(w.boxBounds[box], s.skin[b] + s.reach[b]);
                 for (uint32_t a = 0; a < n; ++a) {
                     if (a == b) continue;
                     const BodyRecord& A = w.bodies[a];
                     const float margin = marginOf(w, A, B);
                     for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
                          ++node)
-                        testBox(b, box, a, node, w.nodes[node], margin);
+                        if (SpatialHash::cubeMeets(w.nodes[node], s.reach[a], grown))
+                            testBox(b, box, a, node, w.nodes[node], margin);
                 }
+            }
         }
         sortContacts(out, s.sortKeys, s.sortScratch);
         return;
     }
 
-    // Phase 2: hash the nodes of the candidate objects (all objects for `previous`), then each
-    // box of a candidate object visits the hash cells its node bounds (grown by the largest
-    // margin any of its partners can need) overlap and tests the nodes of the other objects it
-    // forms a candidate pair with. The rule is the same in both modes; in `previous` every
-    // other object is a partner.
+    // Phase 2: hash the nodes of the candidate objects (all objects for `previous`), each with
+    // the cube of its body's reach, then each box of a candidate object visits the hash cells
+    // its node bounds grown by its body's skin and reach overlap and tests the nodes of the
+    // other objects it forms a candidate pair with (every other object for `previous`) whose
+    // cubes meet them. The sizes depend on the two bodies alone, so a pair that phase 1 keeps
+    // has the same node/box pairs tested in both modes; `previous` pays for hashing every
+    // object's nodes and querying every object's boxes, because no pair is rejected early.
     //
     // A box whose grown bounds miss every partner's bounds can neither find a node (a node
     // lies within its object's bounds) nor have its nodes found (a box only finds nodes within
@@ -411,63 +458,62 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     const bool enhanced = mode == CollisionMode::Enhanced;
     if (enhanced && s.pairs.empty()) return;
     auto isCandidate = [&](uint32_t b) { return !enhanced || s.isCandidate[b]; };
-    // Bounds of all objects but one, for `previous`: prefix and suffix unions.
-    std::vector<Aabb>& prefix = s.prefixBounds;
-    std::vector<Aabb>& suffix = s.suffixBounds;
-    if (!enhanced) {
+    // Each body's bounds grown by its reach (where its nodes' cubes lie) and by its skin and
+    // reach (where its boxes' queries lie); for `previous`, the union of all bodies' but one,
+    // by prefix and suffix unions.
+    s.reachBounds.resize(n);
+    s.queryBounds.resize(n);
+    for (uint32_t b = 0; b < n; ++b) {
+        s.reachBounds[b] = grow(w.bodies[b].bounds, s.reach[b]);
+        s.queryBounds[b] = grow(w.bodies[b].bounds, s.skin[b] + s.reach[b]);
+    }
+    auto unions = [&](const std::vector<Aabb>& of, std::vector<Aabb>& prefix,
+                      std::vector<Aabb>& suffix) {
         prefix.assign(n + 1, Aabb{});
         suffix.assign(n + 1, Aabb{});
-        for (uint32_t a = 0; a < n; ++a) {
-            prefix[a + 1] = prefix[a];
-            prefix[a + 1].add(w.bodies[a].bounds);
-        }
-        for (uint32_t a = n; a-- > 0;) {
-            suffix[a] = suffix[a + 1];
-            suffix[a].add(w.bodies[a].bounds);
-        }
+        for (uint32_t a = 0; a < n; ++a) prefix[a + 1] = prefix[a], prefix[a + 1].add(of[a]);
+        for (uint32_t a = n; a-- > 0;) suffix[a] = suffix[a + 1], suffix[a].add(of[a]);
+    };
+    if (!enhanced) {
+        unions(s.reachBounds, s.prefixBounds, s.suffixBounds);
+        unions(s.queryBounds, s.prefixQueryBounds, s.suffixQueryBounds);
     }
     s.partnerMark.assign(n, 0);
     s.partnerMargin.resize(n);
     constexpr uint32_t kIndividual = 8; // partners' bounds tested one by one up to this many
-    // Body b's partners: their bounds, the margin each needs against b's boxes (marked when
-    // `mark`), the largest of those (`queryReach`) and of b's nodes' margins against them
-    // (`hashReach`).
-    float queryReach = 0, hashReach = 0;
+    // Body b's partners: their reach and query bounds, one by one or as unions.
     bool individual = true;
-    Aabb partnerUnion;
-    auto gatherPartners = [&](uint32_t b, bool mark) {
-        const BodyRecord& B = w.bodies[b];
-        queryReach = hashReach = 0;
+    Aabb reachUnion, queryUnion;
+    auto gatherPartners = [&](uint32_t b) {
         s.partnerBounds.clear();
-        auto add = [&](uint32_t a) {
-            const BodyRecord& A = w.bodies[a];
-            const float margin = marginOf(w, A, B);
-            if (mark) s.partnerMark[a] = 1, s.partnerMargin[a] = margin;
-            queryReach = maxNum(queryReach, margin);
-            hashReach = maxNum(hashReach, marginOf(w, B, A));
-            s.partnerBounds.push_back(A.bounds);
-        };
+        s.partnerQueryBounds.clear();
         if (enhanced) {
-            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) add(s.partners[k]);
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
+                s.partnerBounds.push_back(s.reachBounds[s.partners[k]]);
+                s.partnerQueryBounds.push_back(s.queryBounds[s.partners[k]]);
+            }
+            individual = s.partnerBounds.size() <= kIndividual;
         } else {
-            for (uint32_t a = 0; a < n; ++a)
-                if (a != b) add(a);
+            individual = n - 1 <= kIndividual;
+            for (uint32_t a = 0; individual && a < n; ++a)
+                if (a != b) {
+                    s.partnerBounds.push_back(s.reachBounds[a]);
+                    s.partnerQueryBounds.push_back(s.queryBounds[a]);
+                }
         }
-        individual = s.partnerBounds.size() <= kIndividual;
-        partnerUnion = Aabb{};
-        if (!individual) {
-            if (enhanced)
-                for (const Aabb& a : s.partnerBounds) partnerUnion.add(a);
-            else
-                partnerUnion = prefix[b], partnerUnion.add(suffix[b + 1]);
+        reachUnion = queryUnion = Aabb{};
+        if (individual) return;
+        if (enhanced) {
+            for (const Aabb& a : s.partnerBounds) reachUnion.add(a);
+            for (const Aabb& a : s.partnerQueryBounds) queryUnion.add(a);
+        } else {
+            reachUnion = s.prefixBounds[b], reachUnion.add(s.suffixBounds[b + 1]);
+            queryUnion = s.prefixQueryBounds[b], queryUnion.add(s.suffixQueryBounds[b + 1]);
         }
     };
-    auto grow = [](const Aabb& a, float r) {
-        return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
-    };
-    auto nearPartners = [&](const Aabb& grown) {
-        if (!individual) return grown.overlaps(partnerUnion);
-        for (const Aabb& a : s.partnerBounds)
+    auto near = [&](const Aabb& grown, const std::vector<Aabb>& each, const Aabb& all) {
+        if (!individual) return grown.overlaps(all);
+        for (const Aabb& a : each)
             if (grown.overlaps(a)) return true;
         return false;
     };
@@ -479,47 +525,55 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
         cell = maxNum(cell, B.cellSize);
-        gatherPartners(b, false);
+        gatherPartners(b);
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             const Aabb& bb = w.boxBounds[box];
-            const uint8_t flags = uint8_t((nearPartners(grow(bb, queryReach)) ? kQuery : 0) |
-                                          (nearPartners(grow(bb, hashReach)) ? kHash : 0));
-            s.boxFlags[box] = flags;
-            if (flags & kHash) nodeCount += 8;
+            // Queried when its query bounds meet a partner's nodes' cubes; hashed when its
+            // nodes' cubes meet a partner's query bounds.
+            const bool query = near(grow(bb, s.skin[b] + s.reach[b]), s.partnerBounds, reachUnion);
+            const bool hash = near(grow(bb, s.reach[b]), s.partnerQueryBounds, queryUnion);
+            s.boxFlags[box] = uint8_t((query ? kQuery : 0) | (hash ? kHash : 0));
+            if (hash) nodeCount += 8;
         }
     }
     if (nodeCount == 0) return;
-    s.hash.begin(nodeCount, cell);
+    s.hash.begin(nodeCount, cell, s.reach, kReachAllowance * cell);
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& r = w.bodies[b];
         for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
             if (s.boxFlags[box] & kHash)
                 for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
-                    s.hash.add(node, b, w.nodes[node]); // the position too: no random reads later
+                    // The position too: no random reads later.
+                    s.hash.add(node, b, w.nodes[node]);
     }
+    s.hash.reserveTable(s.hash.stagedCount()); // nodes of fast bodies lie in several cells
     s.hash.build();
     for (uint32_t b = 0; b < n; ++b) {
         if (!isCandidate(b)) continue;
         const BodyRecord& B = w.bodies[b];
-        gatherPartners(b, true);
+        // Each partner's margin against b's boxes (every other object's for `previous`).
+        if (enhanced) {
+            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
+                const uint32_t a = s.partners[k];
+                s.partnerMark[a] = 1;
+                s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+            }
+        } else {
+            for (uint32_t a = 0; a < n; ++a)
+                if (a != b) s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+        }
         for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
             if (!(s.boxFlags[box] & kQuery)) continue;
-            const Aabb grown = grow(w.boxBounds[box], queryReach);
-            const int32_t i0 = s.hash.cell(grown.lo.x), i1 = s.hash.cell(grown.hi.x);
-            const int32_t j0 = s.hash.cell(grown.lo.y), j1 = s.hash.cell(grown.hi.y);
-            const int32_t k0 = s.hash.cell(grown.lo.z), k1 = s.hash.cell(grown.hi.z);
-            s.hash.forEachInRange(
-                i0, i1, j0, j1, k0, k1, b, grown, [&](const SpatialHash::Entry& e) {
-                    if (s.partnerMark[e.owner])
-                        testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
-                });
+            const Aabb grown = grow(w.boxBounds[box], s.skin[b] + s.reach[b]);
+            s.hash.forEachNear(grown, b, [&](const SpatialHash::Entry& e) {
+                if (!enhanced || s.partnerMark[e.owner])
+                    testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
+            });
         }
         if (enhanced)
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
                 s.partnerMark[s.partners[k]] = 0;
-        else
-            std::fill(s.partnerMark.begin(), s.partnerMark.end(), 0);
     }
     sortContacts(out, s.sortKeys, s.sortScratch);
 }

@@ -10,12 +10,22 @@
 // buckets), so each bucket's entries lie contiguous in memory and a query scans an array
 // instead of chasing a linked list. Each entry keeps its exact cell and its owner, so two
 // cells sharing a bucket never mix and a query can skip entries cheaply.
+//
+// Items may have a reach, one per owner (how far an object's nodes can travel in a substep):
+// an item then stands for the cube of that half-width around its point, and a range query
+// reports the items whose cubes meet its bounds. So a query's size depends on the querying box
+// alone and an item's reach on its own owner alone, not on the fastest owner anywhere. Every
+// query covers a fixed `allowance` of reach beyond its bounds; an item whose reach exceeds it
+// is stored in every cell its cube shrunk by the allowance overlaps, and reported once, from
+// the cell of the lowest corner of that shrunk cube's overlap with the query's cells.
 #pragma once
 
 #include "ffdaabb/math.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace ffd::detail {
@@ -45,16 +55,84 @@ public:
         Vec3 position;  ///< where it was added (read with the entry, not from elsewhere)
     };
 
-    /// Starts a new step: a table of at least 2 * expectedEntries buckets (prime), cell size l.
-    void begin(size_t expectedEntries, float cellSize);
+    /// Starts a new step: a table of at least 2 * expectedEntries buckets (prime), cell size l;
+    /// `ownerReach[o]` (>= 0) is the reach of owner o's items (none: 0 for all), `allowance`
+    /// (>= 0) the reach every range query covers beyond its bounds.
+    void begin(size_t expectedEntries, float cellSize, std::span<const float> ownerReach = {},
+               float allowance = 0);
 
-    /// Stages an item at point p; the table is built by build().
+    /// An item whose cube would lie in more cells than this is kept apart, in a list that every
+    /// query scans owner by owner (a body thrown at tens of metres per second would otherwise
+    /// fill thousands of cells with each of its nodes).
+    static constexpr int64_t kMaxCopies = 27;
+
+    /// Stages an item at point p, in each cell its owner's reach less the allowance reaches
+    /// (one cell for most; the wide list past kMaxCopies); the table is built by build().
     void add(uint32_t item, uint32_t owner, Vec3 p) {
-        staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner, p});
+        if (owner >= reach_.size()) reach_.resize(owner + 1, 0.0f), extent_.resize(owner + 1, 0.0f);
+        const float e = extent_[owner];
+        if (e == 0) {
+            staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner, p});
+            return;
+        }
+        const int32_t i0 = cell(p.x - e), i1 = cell(p.x + e);
+        const int32_t j0 = cell(p.y - e), j1 = cell(p.y + e);
+        const int32_t k0 = cell(p.z - e), k1 = cell(p.z + e);
+        if (int64_t(i1 - int64_t(i0) + 1) * (j1 - int64_t(j0) + 1) * (k1 - int64_t(k0) + 1) >
+            kMaxCopies) {
+            wide_.push_back({0, 0, 0, item, owner, p});
+            return;
+        }
+        for (int32_t k = k0; k <= k1; ++k)
+            for (int32_t j = j0; j <= j1; ++j)
+                for (int32_t i = i0; i <= i1; ++i) staged_.push_back({i, j, k, item, owner, p});
     }
+
+    /// Grows the table to at least 2 * entries buckets (prime) if it has fewer (to fit the
+    /// copies staged so far, say); before build().
+    void reserveTable(size_t entries);
+    size_t stagedCount() const { return staged_.size(); }
 
     /// Sorts the staged items into their buckets (two passes, timestamps, no clearing).
     void build();
+
+    /// Whether the cube of half-width `reach` around p meets closed bounds `within`: the test
+    /// of forEachNear, shared with callers that test without the table.
+    static bool cubeMeets(Vec3 p, float reach, const Aabb& within) {
+        return p.x + reach >= within.lo.x && p.x - reach <= within.hi.x &&
+               p.y + reach >= within.lo.y && p.y - reach <= within.hi.y &&
+               p.z + reach >= within.lo.z && p.z - reach <= within.hi.z;
+    }
+
+    /// Calls f(entry) once for each item whose owner is not `skipOwner` and whose cube (its
+    /// owner's reach) meets `within` (cubeMeets). Scans the wide items of the owners whose
+    /// cubes' bounds meet `within`, then visits the cells of `within` grown by the allowance
+    /// (and a little more than rounding can shift a bound).
+    template <class F>
+    void forEachNear(const Aabb& within, uint32_t skipOwner, F&& f) const {
+        // Pad: a few float roundings of the coordinates, so that a cube meeting `within` always
+        // has its shrunk cube overlap the visited cells.
+        auto pad = [&](float v) { return allowance_ > 0 ? allowance_ + 1e-6f * std::abs(v) : 0; };
+        const Aabb range{within.lo - Vec3{pad(within.lo.x), pad(within.lo.y), pad(within.lo.z)},
+                         within.hi + Vec3{pad(within.hi.x), pad(within.hi.y), pad(within.hi.z)}};
+        const int32_t i0 = cell(range.lo.x), j0 = cell(range.lo.y), k0 = cell(range.lo.z);
+        for (const WideRun& run : wideRuns_) {
+            if (run.owner == skipOwner || !run.bounds.overlaps(within)) continue;
+            for (uint32_t n = run.start; n < run.end; ++n)
+                if (cubeMeets(wide_[n].position, reach_[run.owner], within)) f(wide_[n]);
+        }
+        forEachInRange(i0, cell(range.hi.x), j0, cell(range.hi.y), k0, cell(range.hi.z), skipOwner,
+                       within, [&](const Entry& e) {
+                           // Stored in several cells: report from the first cell of the shrunk
+                           // cube's overlap with the range along each axis.
+                           const float x = extent_[e.owner];
+                           if (x > 0 && (std::max(cell(e.position.x - x), i0) != e.i ||
+                                         std::max(cell(e.position.y - x), j0) != e.j ||
+                                         std::max(cell(e.position.z - x), k0) != e.k))
+                               return;
+                           f(e);
+                       });
+    }
 
     /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. A
     /// bucket holding only that owner's items is passed over without reading them (most cells
@@ -70,10 +148,11 @@ public:
 
     static constexpr uint32_t kNoOwner = UINT32_MAX;
 
-    /// forEachInCell over every cell of a range, for the items whose position lies in `within`
-    /// (closed bounds). The buckets are looked up (and prefetched) before any is read, then
-    /// the entries of those that matter, so their cache misses overlap instead of queueing;
-    /// each entry's stored position is checked before anything else of it is read.
+    /// forEachInCell over every cell of a range, for the items whose cube meets `within`
+    /// (cubeMeets; an item stored in several cells of the range is passed from each). The
+    /// buckets are looked up (and prefetched) before any is read, then the entries of those
+    /// that matter, so their cache misses overlap instead of queueing; each entry's stored
+    /// position is checked before anything else of it is read.
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, const Aabb& within, F&& f) const {
@@ -99,10 +178,7 @@ public:
                 const int32_t* c = cs[liveCell[l]];
                 const Entry* e = entries_.data() + b.start;
                 for (uint32_t q = 0; q < b.count; ++q) {
-                    const Vec3 p = e[q].position;
-                    if (!(p.x >= within.lo.x && p.x <= within.hi.x && p.y >= within.lo.y &&
-                          p.y <= within.hi.y && p.z >= within.lo.z && p.z <= within.hi.z))
-                        continue;
+                    if (!cubeMeets(e[q].position, reach_[e[q].owner], within)) continue;
                     if (e[q].owner != skipOwner && e[q].i == c[0] && e[q].j == c[1] &&
                         e[q].k == c[2])
                         f(e[q]);
@@ -125,6 +201,7 @@ public:
     float cellSize() const { return cellSize_; }
     size_t tableSize() const { return buckets_.size(); }
     size_t entryCount() const { return entries_.size(); }
+    size_t wideCount() const { return wide_.size(); } ///< items kept apart (kMaxCopies)
 
 private:
     struct Bucket {
@@ -143,7 +220,18 @@ private:
 
     std::vector<Bucket> buckets_;
     std::vector<Entry> staged_, entries_;
+    /// Items past kMaxCopies cells, and their runs of one owner with the bounds of its cubes.
+    struct WideRun {
+        uint32_t owner, start, end;
+        Aabb bounds;
+    };
+    std::vector<Entry> wide_;
+    std::vector<WideRun> wideRuns_;
     std::vector<uint32_t> touched_, slotOf_, bucketOf_;
+    /// Per owner of a staged item: its reach, and what of it the item's cells cover (the reach
+    /// less the allowance).
+    std::vector<float> reach_, extent_;
+    float allowance_ = 0;
     uint32_t stamp_ = 0;
     uint64_t modMagic_ = 0;  ///< ceil(2^64 / T)
     uint32_t tableSize_ = 1; ///< T

@@ -4,6 +4,7 @@
 #include "collision/pipeline.h"
 #include "collision/spatial_hash.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
 #include "test_support.h"
 #include "world/world_data.h"
@@ -220,6 +221,46 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
     EXPECT_EQ(detail::nextPrime(2), 2u);
 }
 
+// Items with a reach (per owner) stand for cubes: a range query reports, exactly once, every
+// item whose cube meets its bounds and nothing else, with and without an allowance, however
+// many cells the cubes and the bounds cover.
+TEST(SpatialHash, ReachCubesAreFoundExactlyOnce) {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u(-3, 3), r(0, 1);
+    const std::vector<float> reach = {0.0f, 0.05f, 0.3f, 0.9f, 2.5f};
+    for (float allowance : {0.0f, 0.1f, 0.25f}) {
+        detail::SpatialHash hash;
+        hash.begin(400, 0.5f, reach, allowance);
+        std::vector<Vec3> points(400);
+        for (uint32_t i = 0; i < points.size(); ++i) {
+            points[i] = {u(rng), u(rng), u(rng)};
+            hash.add(i, i % 5, points[i]);
+        }
+        hash.reserveTable(hash.stagedCount());
+        hash.build();
+        // Slow owners' items in one cell, faster ones' in several, the fastest's kept apart.
+        EXPECT_GT(hash.entryCount() + hash.wideCount(), points.size());
+        EXPECT_GT(hash.wideCount(), 0u);
+        size_t found = 0;
+        for (int q = 0; q < 300; ++q) {
+            const Vec3 c{u(rng), u(rng), u(rng)};
+            const Vec3 h{r(rng), r(rng), r(rng)};
+            const Aabb within{c - h, c + h};
+            std::vector<int> seen(points.size(), 0);
+            hash.forEachNear(within, 3,
+                             [&](const detail::SpatialHash::Entry& e) { ++seen[e.item]; });
+            for (uint32_t i = 0; i < points.size(); ++i) {
+                const bool meets =
+                    i % 5 != 3 && detail::SpatialHash::cubeMeets(points[i], reach[i % 5], within);
+                ASSERT_EQ(seen[i], meets ? 1 : 0)
+                    << "item " << i << " allowance " << allowance << " query " << q;
+                found += seen[i];
+            }
+        }
+        EXPECT_GT(found, 5000u);
+    }
+}
+
 namespace {
 
 // The paper's objects (letters, spheres, teapots, a dragon), placed, rotated and deformed at
@@ -238,11 +279,12 @@ public:
         for (char c : {'A', 'B', 'G', 'K', 'O', 'S', 'W', 'X'}) kinds.push_back({letter(c), 34});
     }
 
-    void configure(std::mt19937& rng, int n) {
+    // n bodies in a cube of side about 1.4 roomScale cbrt(n) m.
+    void configure(std::mt19937& rng, int n, float roomScale = 0.7f) {
         for (BodyId id : world.bodies()) world.removeBody(id);
         std::uniform_real_distribution<float> u(-1, 1);
         std::uniform_int_distribution<size_t> pick(0, kinds.size() - 1);
-        const float room = 0.7f * std::cbrt(float(n));
+        const float room = roomScale * std::cbrt(float(n));
         bool dragonUsed = false;
         for (int i = 0; i < n; ++i) {
             size_t k = pick(rng);
@@ -266,6 +308,26 @@ public:
         }
     }
 
+    // Uneven particle velocities: each body at rest, slow, or fast (10-50 m/s), and in some
+    // bodies a share of the particles moving the other way or spinning, so that a body's spread
+    // (largest deviation from its mean velocity) is up to twice its speed.
+    void unevenVelocities(std::mt19937& rng) {
+        detail::WorldData& w = world.data();
+        std::uniform_real_distribution<float> u(-1, 1);
+        for (const detail::BodyRecord& r : w.bodies) {
+            const int kind = int(rng() % 5);
+            const Vec3 dir = normalize(Vec3{u(rng), u(rng), u(rng)} + Vec3{0, 1e-3f, 0});
+            const float speed = kind == 0 ? 0.0f : kind == 1 ? 1.0f : 30.0f + 20.0f * u(rng);
+            const uint32_t reversed = kind == 3 ? 1 + uint32_t(rng() % r.particleCount) : 0;
+            for (uint32_t i = 0; i < r.particleCount; ++i) {
+                Vec3 v = dir * speed;
+                if (i < reversed) v = -v; // moving backwards
+                if (kind == 4) v += Vec3{u(rng), u(rng), u(rng)} * (0.5f * speed); // spinning
+                w.v[r.firstParticle + i] = v;
+            }
+        }
+    }
+
     struct Kind {
         TriangleMesh mesh;
         int cells;
@@ -274,14 +336,17 @@ public:
     World world;
 };
 
-std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w,
-                                                          CollisionMode mode) {
+// The contacts `mode` finds on the world's current state; `testedPairs`: how many node/box
+// pairs it tested.
+std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, CollisionMode mode,
+                                                          int* testedPairs = nullptr) {
     detail::updateNodes(w, 0, w.bodies.size());
     w.collision.pairs.clear();
     if (mode == CollisionMode::Enhanced) detail::sphereTest(w);
     std::vector<detail::Contact> contacts;
     int potential = 0;
     detail::findObjectContacts(w, mode, contacts, potential);
+    if (testedPairs) *testedPairs = potential;
     std::vector<std::tuple<uint64_t, Vec3, float>> out;
     for (const detail::Contact& c : contacts)
         out.emplace_back(detail::contactKey(c), c.normal, c.depth());
@@ -300,9 +365,14 @@ TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
     for (int config = 0; config < 1000; ++config) {
         const int n = count(rng);
         pool.configure(rng, n);
-        const auto brute = contactSet(w, CollisionMode::Brute);
-        const auto previous = contactSet(w, CollisionMode::Previous);
-        const auto enhanced = contactSet(w, CollisionMode::Enhanced);
+        int tested[3] = {};
+        const auto brute = contactSet(w, CollisionMode::Brute, &tested[0]);
+        const auto previous = contactSet(w, CollisionMode::Previous, &tested[1]);
+        const auto enhanced = contactSet(w, CollisionMode::Enhanced, &tested[2]);
+        // `previous` tests the node/box pairs brute force tests within reach; `enhanced` those
+        // of the pairs phase 1 keeps, no more.
+        ASSERT_EQ(tested[1], tested[0]) << "configuration " << config;
+        ASSERT_LE(tested[2], tested[1]) << "configuration " << config;
         ASSERT_EQ(previous, brute) << "configuration " << config << " with " << n << " objects";
         for (size_t k = 1; k < brute.size(); ++k)
             ASSERT_LT(std::get<0>(brute[k - 1]), std::get<0>(brute[k])) << "not in canonical order";
@@ -318,12 +388,69 @@ TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
     RecordProperty("contacts", int(total));
 }
 
+// Above settings.sweepThreshold bodies phase 1 sorts and sweeps: with more than 64 bodies of
+// uneven particle velocities (fast, slow, some particles reversed, spinning) its window must
+// still cover every margin the narrow phase uses, so the three modes find identical contacts.
+TEST(CollisionModes, SweepPathWithUnevenVelocitiesFindsIdenticalContacts) {
+    Pool pool;
+    detail::WorldData& w = pool.world.data();
+    w.substep = 1.0f / 120.0f;
+    ASSERT_EQ(w.settings.sweepThreshold, 64);
+    std::mt19937 rng(2024);
+    size_t total = 0, prunedPairs = 0;
+    std::vector<int> sizes;
+    for (int config = 0; config < 6; ++config) {
+        const int n = 65 + int(rng() % 30);
+        pool.configure(rng, n, 1.6f);
+        pool.unevenVelocities(rng);
+        int tested[3] = {};
+        const auto brute = contactSet(w, CollisionMode::Brute, &tested[0]);
+        const auto previous = contactSet(w, CollisionMode::Previous, &tested[1]);
+        const auto enhanced = contactSet(w, CollisionMode::Enhanced, &tested[2]);
+        ASSERT_EQ(previous, brute) << "configuration " << config << " with " << n << " objects";
+        ASSERT_EQ(enhanced, brute) << "configuration " << config << " with " << n << " objects";
+        // The node/box pairs within reach depend on the two bodies only: `previous` tests those
+        // brute force tests, `enhanced` those of the pairs phase 1 keeps, no more.
+        EXPECT_EQ(tested[1], tested[0]) << "configuration " << config;
+        EXPECT_LE(tested[2], tested[1]) << "configuration " << config;
+        total += brute.size();
+        prunedPairs += size_t(n) * size_t(n - 1) / 2 - w.collision.pairs.size();
+    }
+    EXPECT_GT(total, 20000u);      // they collide for real
+    EXPECT_GT(prunedPairs, 5000u); // and the sweep rejects real pairs
+}
+
+// The case that a sweep window sized from the fastest particle missed: two spheres 3.4 m apart
+// closing at 50 m/s each, one particle of each moving the other way (a spread twice the
+// speed), among 64 others (so phase 1 sweeps). Within one substep their nodes and boxes can
+// meet; every mode must find the same contacts.
+TEST(CollisionModes, SweepFindsFastBodiesWithReversedParticles) {
+    World world;
+    for (int i = 0; i < 64; ++i)
+        world.addBody(test::ball(),
+                      test::sphereAt({4.0f * float(i % 8), 3.0f, 20.0f + 4.0f * float(i / 8)}));
+    const BodyId a = world.addBody(test::ball(), test::sphereAt({0, 3, 0}, {50, 0, 0}));
+    const BodyId b = world.addBody(test::ball(), test::sphereAt({3.4f, 3, 0}, {-50, 0, 0}));
+    detail::WorldData& w = world.data();
+    w.substep = 1.0f / 120.0f;
+    for (BodyId id : {a, b}) {
+        const detail::BodyRecord& r = *w.find(id);
+        w.v[r.firstParticle] = -w.v[r.firstParticle];
+    }
+    const auto brute = contactSet(w, CollisionMode::Brute);
+    EXPECT_GT(brute.size(), 100u);
+    EXPECT_EQ(contactSet(w, CollisionMode::Previous), brute);
+    EXPECT_EQ(contactSet(w, CollisionMode::Enhanced), brute);
+}
+
 TEST(CollisionModes, SweepAndAllPairsAgree) {
     Pool pool;
     detail::WorldData& w = pool.world.data();
+    w.substep = 1.0f / 120.0f;
     std::mt19937 rng(9);
     for (int config = 0; config < 100; ++config) {
-        pool.configure(rng, 20);
+        pool.configure(rng, 20, config % 2 ? 1.6f : 0.7f);
+        if (config % 4 >= 2) pool.unevenVelocities(rng);
         detail::updateNodes(w, 0, w.bodies.size());
         w.settings.sweepThreshold = 1000;
         detail::sphereTest(w);
@@ -425,5 +552,41 @@ TEST(CollisionResponse, ASphereThrownAt20MetresPerSecondDoesNotTunnel) {
         }
         EXPECT_GT(minGap, 0.6f) << toString(mode); // never through, never deep inside
         EXPECT_GT(world.centreOfMass(target).x, 0.5f) << "the target was hit and pushed";
+    }
+}
+
+// The paper's four scenes at full size (165 letters, 100 spheres, 80 teapots, 30 dragons),
+// stepped in `previous` and `enhanced` side by side while their layers land: every frame the
+// two find the same contacts, `enhanced` tests no node/box pair `previous` does not (and
+// `previous` few more: no scene-wide margin inflates its queries), and they end in the same
+// state.
+TEST(CollisionModes, PaperScenesAtFullSizeAgree) {
+    const std::pair<const char*, int> scenes[] = {
+        {"alphabets", 70}, {"spheres", 70}, {"teapots", 70}, {"buddhas", 60}};
+    for (const auto& [name, frames] : scenes) {
+        SCOPED_TRACE(name);
+        Scene scene = loadScene(name);
+        scene.world.mode = CollisionMode::Previous;
+        SceneBuild previous = buildScene(scene);
+        scene.world.mode = CollisionMode::Enhanced;
+        SceneBuild enhanced = buildScene(scene);
+        int framesWithContacts = 0;
+        double testedPrevious = 0, testedEnhanced = 0;
+        for (int f = 0; f < frames; ++f) {
+            previous.world.step();
+            enhanced.world.step();
+            const Profile& p = previous.world.profile();
+            const Profile& e = enhanced.world.profile();
+            ASSERT_EQ(p.contacts, e.contacts) << name << " frame " << f;
+            // Phase 1 only removes pairs that cannot touch: the node/box pairs tested are
+            // those of the pairs it keeps, which `previous` tests too.
+            ASSERT_LE(e.potentialPairs, p.potentialPairs) << name << " frame " << f;
+            EXPECT_LT(e.candidatePairs, p.candidatePairs) << name << " frame " << f;
+            testedPrevious += p.potentialPairs, testedEnhanced += e.potentialPairs;
+            framesWithContacts += e.contacts > 0;
+        }
+        EXPECT_GE(testedEnhanced, 0.9 * double(testedPrevious)) << name;
+        EXPECT_EQ(previous.world.stateHash(), enhanced.world.stateHash()) << name;
+        EXPECT_GT(framesWithContacts, 10) << name << ": the objects must collide";
     }
 }
