@@ -92,7 +92,7 @@ struct ModeResult {
     std::string mode; ///< the collision mode's name (the JSON key, the tables' label)
     std::vector<std::array<double, kStageCount>> frameMs;
     double mean[kStageCount] = {}, median[kStageCount] = {};
-    double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxPenetration = 0;
+    double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxContactDepth = 0;
     uint64_t hash = 0;
     bool finite = true;
     double fps() const { return mean[6] > 0 ? 1000.0 / mean[6] : 0; }
@@ -130,7 +130,7 @@ void record(ModeResult& m, const World& w) {
     m.candidatePairs += p.candidatePairs;
     m.potentialPairs += p.potentialPairs;
     m.contacts += p.contacts;
-    m.maxPenetration = std::max(m.maxPenetration, double(p.maxPenetration));
+    m.maxContactDepth = std::max(m.maxContactDepth, double(p.maxContactDepth));
 }
 
 SceneResult benchScene(const std::string& name, const BenchOptions& o, int index, int count) {
@@ -400,7 +400,7 @@ int run(const BenchFlags& flags) {
             mj["candidate_pairs"] = m.candidatePairs;
             mj["potential_pairs"] = m.potentialPairs;
             mj["contacts"] = m.contacts;
-            mj["max_penetration"] = m.maxPenetration;
+            mj["max_contact_depth"] = m.maxContactDepth;
             mj["state_hash"] = hashText(m.hash);
             mj["finite"] = m.finite;
             j[m.mode] = mj;

@@ -18,7 +18,7 @@ namespace {
 
 struct RunCommandOptions {
     SceneFlags scene;
-    std::string frames = "300", warmup = "0";
+    std::string frames = "300", warmup = "0", measureEvery = "10";
     std::string stats, exportObj;
     bool quiet = false;
 };
@@ -57,6 +57,7 @@ namespace {
 int run(const RunCommandOptions& o) {
     const int frames = int(parseInteger("--frames", o.frames, 1, 10000000));
     const int warmup = int(parseInteger("--warmup", o.warmup, 0, 10000000));
+    const int measureEvery = int(parseInteger("--measure-every", o.measureEvery, 0, 10000000));
     checkOutputPath("--stats", o.stats);
     checkOutputPath("--export-obj", o.exportObj);
     checkDistinctOutputs("--stats", o.stats, "--export-obj", o.exportObj);
@@ -65,6 +66,7 @@ int run(const RunCommandOptions& o) {
     RunOptions ro;
     ro.frames = frames;
     ro.warmup = warmup;
+    ro.measureEvery = measureEvery;
     if (!o.quiet) ro.progress = progressBar(scene.name);
     // Both outputs go to temporary files that are renamed into place together at the end: a
     // run that fails, or an output that cannot be written, leaves neither behind.
@@ -108,7 +110,17 @@ int run(const RunCommandOptions& o) {
     fmt::print("  per frame (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
                "{:.1f} object contacts, {:.1f} floor contacts\n",
                r.candidatePairs, r.potentialPairs, r.contacts, r.floorContacts);
-    fmt::print("  max penetration    {:.4f} m (after the response)\n", r.maxPenetration);
+    if (r.measureSamples > 0) {
+        const bench::Interpenetration& p = r.interpenetration;
+        fmt::print(
+            "  interpenetration   deepest vertex {:.4f} m inside another object ({:.2f} % of "
+            "the largest size) at frame {}; at most {} vertices inside, {} deeper than "
+            "1 % ({} samples, every {} frames)\n",
+            p.maxDepth, 100 * p.maxDepthRelative, r.deepestFrame, p.insideVertices, p.deepVertices,
+            r.measureSamples, r.measureEvery);
+    }
+    fmt::print("  deepest contact    {:.4f} m (the pipeline's node in a box, after the response)\n",
+               r.maxContactDepth);
     fmt::print("  state hash         {:016x}   finite: {}\n", r.stateHash, r.finite ? "yes" : "NO");
     if (!o.stats.empty()) fmt::print("  stats written to   {}\n", o.stats);
     if (!o.exportObj.empty()) fmt::print("  meshes written to  {}\n", o.exportObj);
@@ -126,6 +138,10 @@ void addRunCommand(CLI::App& app, Action& action) {
                     "Frames to simulate and time, 1..10000000 (default 300)");
     cmd->add_option("--warmup", o->warmup,
                     "Frames to simulate before timing starts, 0..10000000 (default 0)");
+    cmd->add_option("--measure-every", o->measureEvery,
+                    "Measure the meshes' interpenetration (vertices inside other objects, by "
+                    "winding number) every N frames and after the last, 0..10000000 (default "
+                    "10; 0: never)");
     cmd->add_option("--stats", o->stats, "Write the run's statistics as JSON to this file");
     cmd->add_option("--export-obj", o->exportObj,
                     "Write the final deformed meshes to this OBJ file");

@@ -52,10 +52,30 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     r.nodes = build.nodes;
     r.buildMs = build.buildMilliseconds;
 
+    // The meshes, judged by the interpenetration measure against the largest object's size.
+    r.measureEvery = options.measureEvery;
+    std::vector<bench::MeshView> views;
+    for (BodyId id : build.bodies)
+        views.push_back({build.world.vertices(id), build.world.triangles(id)});
+    bench::InterpenetrationSettings measure;
+    for (const SceneObject& object : scene.objects)
+        measure.referenceSize = std::max(measure.referenceSize, object.size);
+    measure.floorHeight = scene.world.floorHeight;
+    r.referenceSize = measure.referenceSize;
+    auto sample = [&](int frame) {
+        const bench::Interpenetration p = bench::measureInterpenetration(views, measure);
+        if (r.measureSamples == 0 || p.maxDepth > r.interpenetration.maxDepth)
+            r.deepestFrame = frame;
+        bench::keepWorst(r.interpenetration, p);
+        ++r.measureSamples;
+    };
+
     const auto start = std::chrono::steady_clock::now();
     const int total = options.warmup + options.frames;
     for (int f = 0; f < total; ++f) {
         build.world.step();
+        if (options.measureEvery > 0 && ((f + 1) % options.measureEvery == 0 || f + 1 == total))
+            sample(f + 1);
         if (f >= options.warmup) {
             const Profile& p = build.world.profile();
             r.frameMs.push_back(stages(p));
@@ -63,7 +83,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
             r.potentialPairs += p.potentialPairs;
             r.contacts += p.contacts;
             r.floorContacts += p.floorContacts;
-            r.maxPenetration = std::max(r.maxPenetration, double(p.maxPenetration));
+            r.maxContactDepth = std::max(r.maxContactDepth, double(p.maxContactDepth));
         }
         if (options.progress) options.progress(f + 1, total);
     }
@@ -78,6 +98,21 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     }
     if (atEnd) atEnd(build);
     return r;
+}
+
+nlohmann::json interpenetrationJson(const RunResult& r) {
+    if (r.measureSamples == 0) return {{"sample_every", 0}, {"samples", 0}};
+    const bench::Interpenetration& p = r.interpenetration;
+    return {{"sample_every", r.measureEvery},
+            {"samples", r.measureSamples},
+            {"reference_size_m", r.referenceSize},
+            {"max_depth_relative", p.maxDepthRelative},
+            {"max_depth_m", p.maxDepth},
+            {"deepest_frame", r.deepestFrame},
+            {"max_inside_vertices", p.insideVertices},
+            {"max_deep_vertices", p.deepVertices},
+            {"max_body_pairs", p.bodyPairs},
+            {"below_floor_m", p.belowFloor}};
 }
 
 nlohmann::json statsJson(const RunResult& r) {
@@ -110,7 +145,8 @@ nlohmann::json statsJson(const RunResult& r) {
             {"potential_pairs", r.potentialPairs},
             {"contacts", r.contacts},
             {"floor_contacts", r.floorContacts},
-            {"max_penetration", r.maxPenetration},
+            {"max_contact_depth", r.maxContactDepth},
+            {"interpenetration", interpenetrationJson(r)},
             {"state_hash", hash},
             {"finite", r.finite},
             {"build_ms", r.buildMs},

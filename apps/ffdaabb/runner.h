@@ -3,6 +3,7 @@
 #pragma once
 
 #include "ffdaabb/scene.h"
+#include "interpenetration.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +24,9 @@ struct RunOptions {
     int frames = 300;
     int warmup = 0;                                    ///< frames stepped before timing starts
     std::function<void(int done, int total)> progress; ///< called after each frame
+    /// Measure the meshes' interpenetration (bench/common/interpenetration.h) after every
+    /// measureEvery-th frame (warm-up included) and after the last; 0: never. Untimed.
+    int measureEvery = 0;
 };
 
 struct RunResult {
@@ -34,7 +38,12 @@ struct RunResult {
     std::vector<std::array<double, kStageCount>> frameMs; ///< per timed frame
     double meanMs[kStageCount] = {}, medianMs[kStageCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, floorContacts = 0; ///< means
-    double maxPenetration = 0;
+    double maxContactDepth = 0; ///< the pipeline's deepest contact violation (Profile)
+    /// The meshes' interpenetration: the worst over the samples (keepWorst), its deepest vertex
+    /// relative to the largest object's size (referenceSize), and the frame of that deepest.
+    int measureEvery = 0, measureSamples = 0, deepestFrame = 0;
+    double referenceSize = 1;
+    bench::Interpenetration interpenetration;
     uint64_t stateHash = 0;
     bool finite = true;
     double framesPerSecond() const { return meanMs[6] > 0 ? 1000.0 / meanMs[6] : 0; }
@@ -48,6 +57,9 @@ void summariseStages(const std::vector<std::array<double, kStageCount>>& frameMs
 /// Builds the scene and steps it; `build` receives the built scene (to export meshes etc.).
 RunResult runScene(const Scene& scene, const RunOptions& options,
                    const std::function<void(const SceneBuild&)>& atEnd = {});
+
+/// The `interpenetration` object of the --stats JSON: the worst of the mesh-level samples.
+nlohmann::json interpenetrationJson(const RunResult& r);
 
 /// The --stats JSON object (every key of DESIGN.md's contract, and more).
 nlohmann::json statsJson(const RunResult& r);

@@ -124,15 +124,17 @@ struct Profile {
     double meshUpdate = 0;      ///< embedded mesh vertices
     double total = 0;
 
-    int candidatePairs = 0;   ///< object pairs passed to the spatial hash (last substep)
-    int potentialPairs = 0;   ///< node/box pairs tested in the narrow phase (last substep)
-    int contacts = 0;         ///< object contacts (last substep)
-    int floorContacts = 0;    ///< floor contacts (last substep)
-    int overlapPairs = 0;     ///< pairs placed overlapping and not yet apart (last substep)
-    int wholePairs = 0;       ///< of those, pushed apart as whole bodies (last substep)
-    float maxPenetration = 0; ///< deepest contact violation left after the response (a node
-                              ///< inside another object or below the floor), metres, over
-                              ///< the frame's substeps
+    int candidatePairs = 0; ///< object pairs passed to the spatial hash (last substep)
+    int potentialPairs = 0; ///< node/box pairs tested in the narrow phase (last substep)
+    int contacts = 0;       ///< object contacts (last substep)
+    int floorContacts = 0;  ///< floor contacts (last substep)
+    int overlapPairs = 0;   ///< pairs placed overlapping and not yet apart (last substep)
+    int wholePairs = 0;     ///< of those, pushed apart as whole bodies (last substep)
+    /// Deepest contact violation left after the response (a box node inside another object's
+    /// cell box or below the floor), metres, over the frame's substeps: the pipeline's own
+    /// measure, not the meshes' (a node inside a box need not be a vertex inside a mesh, nor
+    /// the reverse); the meshes' interpenetration is `ffdaabb run`'s `interpenetration`.
+    float maxContactDepth = 0;
 };
 
 /// Rest-pose statistics of a body's shared model.

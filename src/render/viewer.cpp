@@ -416,7 +416,7 @@ struct Viewer::Impl {
         if (p.overlapPairs > 0)
             ImGui::Text("placed overlapping %d   pushed apart whole %d", p.overlapPairs,
                         p.wholePairs);
-        ImGui::Text("max penetration %.2f mm", double(p.maxPenetration) * 1000);
+        ImGui::Text("deepest contact %.2f mm", double(p.maxContactDepth) * 1000);
         ImGui::Text("step %.2f ms   draw %.2f ms", simulateMs, renderMs);
         if (ImGui::Button("Save screenshot")) captureRequested = true, screenshotToFile = true;
         if (ImGui::CollapsingHeader("Controls")) {

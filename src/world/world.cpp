@@ -506,7 +506,7 @@ void World::step() {
         });
         prof.meshUpdate = msSince(t);
     }
-    prof.maxPenetration = deepest;
+    prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
 }

@@ -172,6 +172,8 @@ TEST(CliInput, RunNumericFlags) {
         {{"--frames", "1e3"}, {"--frames", "\"1e3\""}},
         {{"--frames", " 5"}, {"--frames", "\" 5\""}},
         {{"--warmup", "-1"}, {"--warmup", "-1", "0..10000000"}},
+        {{"--measure-every", "-1"}, {"--measure-every", "-1", "0..10000000"}},
+        {{"--measure-every", "often"}, {"--measure-every", "\"often\"", "not a whole number"}},
         {{"--objects", "0"}, {"--objects", "value 0", "1..100000"}},
         {{"--objects", "-3"}, {"--objects", "-3"}},
         {{"--objects", "100001"}, {"--objects", "100001"}},

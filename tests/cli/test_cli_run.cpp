@@ -19,7 +19,7 @@ TEST(CliRun, StatsHaveEveryContractKeyAndObjExportHasOneGroupPerBody) {
     const auto j = nlohmann::json::parse(readFile(dir / "s.json"));
     for (const char* key : {"scene", "mode", "objects", "vertices", "triangles", "cells", "frames",
                             "stage_ms", "frames_per_second", "candidate_pairs", "contacts",
-                            "max_penetration", "state_hash", "finite"})
+                            "max_contact_depth", "interpenetration", "state_hash", "finite"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* stage : {"dynamics", "node_update", "sphere_test", "floor", "object_collision",
                               "mesh_update", "total"})
@@ -53,6 +53,37 @@ TEST(CliRun, StatsHaveEveryContractKeyAndObjExportHasOneGroupPerBody) {
     EXPECT_EQ(faces, 12 * 320);
     EXPECT_EQ(maxIndex, vertices);
     for (int n : perGroup) EXPECT_EQ(n, 162);
+}
+
+// `run` judges contacts by the meshes (vertices inside other objects' closed meshes, by winding
+// number), not by the pipeline's node/box depths: two spheres created half a metre into each
+// other with nothing pushing them apart (no gravity, collisions off) report vertices deep inside
+// in every sample; two created apart report none.
+TEST(CliRun, StatsReportTheMeshesInterpenetration) {
+    TempDir dir;
+    auto measure = [&](double spacing) {
+        writeFile(dir / "pair.json",
+                  R"({"name": "pair", "world": {"gravity": [0, 0, 0], "mode": "none",
+                       "floor": false},
+                      "objects": [{"mesh": "sphere", "count": 2, "size": 1.0}],
+                      "layout": {"origin": [0, 2, 0], "columns": [2, 1], "spacing": )" +
+                      std::to_string(spacing) + "}}");
+        const RunResult r = runCli({"run", "--scene", (dir / "pair.json").string(), "--frames", "6",
+                                    "--measure-every", "2", "--stats", (dir / "s.json").string()});
+        EXPECT_EQ(r.status, 0) << r.err;
+        EXPECT_NE(r.out.find("interpenetration"), std::string::npos) << r.out;
+        return nlohmann::json::parse(readFile(dir / "s.json"))["interpenetration"];
+    };
+    const auto inside = measure(0.5);
+    EXPECT_EQ(inside["samples"].get<int>(), 3);
+    EXPECT_EQ(inside["sample_every"].get<int>(), 2);
+    EXPECT_GT(inside["max_inside_vertices"].get<int>(), 20);
+    EXPECT_GT(inside["max_depth_m"].get<double>(), 0.1);
+    EXPECT_NEAR(inside["max_depth_relative"].get<double>(), inside["max_depth_m"].get<double>(),
+                1e-9); // size 1 m
+    const auto apart = measure(1.5);
+    EXPECT_EQ(apart["max_inside_vertices"].get<int>(), 0);
+    EXPECT_EQ(apart["max_depth_m"].get<double>(), 0.0);
 }
 
 TEST(CliRun, SameRunTwiceGivesTheSameHash) {

@@ -4,7 +4,6 @@
 // entry in docs/LIMITS.md. They run every time, so a fix is noticed at once.
 #include "ffdaabb/generators.h"
 #include "ffdaabb/world.h"
-#include "interpenetration.h"
 
 #include "test_support.h"
 
@@ -18,18 +17,7 @@
 using namespace ffd;
 using ffd::test::ball;
 
-namespace {
-
-// How deep the deepest mesh vertex lies inside another body (metres), as tests/extreme judges.
-double deepestInside(const World& world) {
-    std::vector<bench::MeshView> views;
-    for (BodyId id : world.bodies()) views.push_back({world.vertices(id), world.triangles(id)});
-    bench::InterpenetrationSettings s;
-    s.referenceSize = 1.0f;
-    return bench::measureInterpenetration(views, s).maxDepth;
-}
-
-} // namespace
+using ffd::test::deepestInside;
 
 // A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm (as
 // tests/extreme MassRatioOneToAThousand, which checks that both recover). Wanted: the heavy

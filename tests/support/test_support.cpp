@@ -1,6 +1,7 @@
 #include "test_support.h"
 
 #include "ffdaabb/generators.h"
+#include "interpenetration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +116,14 @@ BodySettings sphereAt(Vec3 position, Vec3 velocity) {
     s.position = position;
     s.velocity = velocity;
     return s;
+}
+
+double deepestInside(const World& world, float referenceSize) {
+    std::vector<bench::MeshView> views;
+    for (BodyId id : world.bodies()) views.push_back({world.vertices(id), world.triangles(id)});
+    bench::InterpenetrationSettings s;
+    s.referenceSize = referenceSize;
+    return bench::measureInterpenetration(views, s).maxDepth;
 }
 
 float fastestBody(const World& world) {

@@ -70,6 +70,10 @@ TriangleMesh ball();
 /// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
 BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 
+/// How deep the deepest mesh vertex lies inside another body's closed mesh (metres, 0 when none
+/// is): the winding-number measure of bench/common/interpenetration.h over all bodies.
+double deepestInside(const World& world, float referenceSize = 1.0f);
+
 /// The largest linear velocity of any body, m/s.
 float fastestBody(const World& world);
 

@@ -207,7 +207,7 @@ TEST_P(BothModels, RestsOnTheFloorWithoutGapOrSinking) {
     for (const Vec3& p : world.vertices(id)) lowest = std::min(lowest, p.y);
     EXPECT_GE(lowest, -0.01f * h);
     EXPECT_LE(lowest, 0.01f * h);
-    EXPECT_LT(world.profile().maxPenetration, 0.001f * h);
+    EXPECT_LT(world.profile().maxContactDepth, 0.001f * h);
 }
 
 struct SettleCase {
@@ -235,7 +235,7 @@ TEST_P(Settles, StaysFiniteAndComesToRest) {
     float lowest = 1e9f;
     for (const Vec3& p : world.vertices(id)) lowest = std::min(lowest, p.y);
     EXPECT_GT(lowest, -0.01f * world.info(id).cellSize);
-    EXPECT_LT(world.profile().maxPenetration, 0.01f * world.info(id).cellSize);
+    EXPECT_LT(world.profile().maxContactDepth, 0.01f * world.info(id).cellSize);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dynamics, Settles,
