@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every benchmark on this machine and writes the results where docs/BENCHMARKS.md quotes
-# them from: bench/results/<machine>/. Takes about 10 minutes on a 2-core machine.
+# them from: bench/results/<machine>/. Takes about 12 minutes on a 2-core machine.
 #   scripts/bench.sh [machine-label]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -19,6 +19,10 @@ build/release/bin/ffdaabb_micro --benchmark_min_time=0.3 --benchmark_repetitions
 
 echo "== the paper's experiment -> $out/paper/"
 build/release/bin/ffdaabb bench --frames 300 --warmup 60 --out "$out/paper"
+
+echo "== alphabets beside alphabets_x10 (ten times the floor) -> $out/alphabets_x10/"
+build/release/bin/ffdaabb bench --scenes alphabets,alphabets_x10 --frames 300 --warmup 60 \
+  --out "$out/alphabets_x10"
 
 echo "== Bullet side by side -> $out/bullet-spheres.json"
 build/release/bin/ffdaabb_peer_bullet --scene spheres --frames 600 --warmup 60 \

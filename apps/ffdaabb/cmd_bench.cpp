@@ -370,7 +370,8 @@ int run(const BenchFlags& flags) {
                         toString(o.modes[1]));
     for (const SceneResult& r : results)
         fig4 << fmt::format("{},{:.2f},{:.2f},{:.3f},{}\n", r.name, r.modes[0].fps(),
-                            r.modes[1].fps(), r.fpsRatio(), kPaperRatio);
+                            r.modes[1].fps(), r.fpsRatio(),
+                            r.paper ? fmt::format("{}", kPaperRatio) : ""); // none: not the paper's
     writeTextFile((out / "fig4.csv").string(), fig4.str());
     std::string why;
     const bool plotted = plotFig4(out / "fig4.csv", out / "fig4.png", why);

@@ -69,6 +69,27 @@ TEST(SceneInput, TheShippedScenesParse) {
     EXPECT_EQ(s.objectCount(), 2);
 }
 
+// alphabets_x10: the alphabet experiment on ten times the floor, the same objects, spacing,
+// lattice, world and number of layers as the paper's scene.
+TEST(SceneInput, AlphabetsTimesTenIsThePaperSceneOnTenTimesTheFloor) {
+    const Scene paper = loadScene("alphabets"), big = loadScene("alphabets_x10");
+    EXPECT_EQ(big.objectCount(), 1650);
+    EXPECT_EQ(big.objectCount(), 10 * paper.objectCount());
+    EXPECT_EQ(big.layout.columns[0], 19);
+    EXPECT_EQ(big.layout.columns[1], 18);
+    EXPECT_EQ(big.layout.spacing, paper.layout.spacing);
+    auto layers = [](const Scene& s) {
+        const int perLayer = s.layout.columns[0] * s.layout.columns[1];
+        return (s.objectCount() + perLayer - 1) / perLayer;
+    };
+    EXPECT_EQ(layers(big), layers(paper));
+    ASSERT_EQ(big.objects.size(), 1u);
+    EXPECT_EQ(big.objects[0].size, paper.objects[0].size);
+    EXPECT_EQ(big.objects[0].body.lattice.targetCells, paper.objects[0].body.lattice.targetCells);
+    EXPECT_EQ(big.world.frameStep, paper.world.frameStep);
+    EXPECT_EQ(big.world.substeps, paper.world.substeps);
+}
+
 TEST(SceneInput, NotJsonEmptyAndTruncatedFilesNameTheFile) {
     expectError("", {"not valid JSON"});
     expectError("   \n", {"not valid JSON"});
