@@ -114,7 +114,8 @@ double distanceToSurface(Vec3 point, const MeshView& mesh) {
 }
 
 Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
-                                         const InterpenetrationSettings& settings) {
+                                         const InterpenetrationSettings& settings,
+                                         const InsideVertexFn& onInside) {
     Interpenetration out;
     out.bodies = int(bodies.size());
     const size_t n = bodies.size();
@@ -141,9 +142,11 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
     // The vertices of `a` inside `b`; returns whether there was any.
     auto probe = [&](size_t a, size_t b) {
         bool any = false;
-        for (const Vec3& v : bodies[a].vertices) {
+        for (size_t k = 0; k < bodies[a].vertices.size(); ++k) {
+            const Vec3 v = bodies[a].vertices[k];
             if (!box[b].contains(v) || !insideMesh(v, bodies[b])) continue;
             const double depth = distanceToSurface(v, bodies[b]);
+            if (onInside) onInside(a, k, b, depth);
             any = true;
             ++out.insideVertices;
             if (depth > deep) ++out.deepVertices;

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -70,8 +71,13 @@ double distanceToSurface(Vec3 point, const MeshView& mesh);
 /// winding number per vertex of either body inside the other's bounds (O(#T) each); one
 /// distance (O(#T)) per inside vertex, and per vertex within the gap range of a separate
 /// neighbour's bounds.
+/// Called for each vertex found inside another body: body `a`'s vertex `vertex` lies inside
+/// body `b`'s mesh, `depth` metres from its surface (indices into the measured bodies).
+using InsideVertexFn = std::function<void(size_t a, size_t vertex, size_t b, double depth)>;
+
 Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
-                                         const InterpenetrationSettings& settings = {});
+                                         const InterpenetrationSettings& settings = {},
+                                         const InsideVertexFn& onInside = {});
 
 /// Folds `sample` into `ioWorst` field by field: maxima of the counts, the depths (meanDepth
 /// included), medianGap and meanGap; minima of lowestY and (over samples with near bodies) of
