@@ -18,7 +18,8 @@
 //               or the node went in during that substep (found in the next);
 //   unresolved  a contact for such a node and box existed in the last substep and the vertex
 //               is still inside: the response did not remove it (competing contacts, too few
-//               iterations, shape matching spreading the correction, a wrong way out).
+//               iterations, shape matching spreading the correction, a wrong way out); split by
+//               how well the contacts' pushes point the way out of the other mesh.
 //
 // Prints a table per cause (vertices, share, deepest and mean depth) and writes it as JSON.
 #include "collision/contact.h"
@@ -38,7 +39,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
 #include <vector>
 
 using namespace ffd;
@@ -119,20 +120,25 @@ int main(int argc, char** argv) {
 
     std::array<Tally, kCauseCount> total{};
     Tally ownBoxExcess; // of the own-box vertices: how far outside their box, in cells
+    // Of the unresolved ones, by the best alignment of their contacts' pushes with the way out
+    // (cosine below 0, 0 to 0.7, 0.7 and above).
+    std::array<Tally, 3> way{};
+    std::vector<Vec3> pushes;
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
         world.step();
         if (f % every != 0) continue;
-        // The last substep's object contacts, by (node, box) key.
-        std::unordered_set<uint64_t> contacts;
+        // The last substep's object contacts' normals, by (node, box) key.
+        std::unordered_map<uint64_t, Vec3> contacts;
         for (const detail::Contact& c : w.collision.objectContacts())
-            contacts.insert(detail::contactKey(c));
+            contacts.emplace(detail::contactKey(c), c.normal);
         std::array<Tally, kCauseCount> here{};
         auto classify = [&](size_t a, size_t vertex, size_t b, double depth) {
             const detail::BodyRecord& A = *records[a];
             const detail::BodyRecord& B = *records[b];
             const Lattice& LA = A.model->lattice;
             const Vec3 p = views[a].vertices[vertex];
+            pushes.clear();
             const uint32_t own = LA.cellBox[LA.vertices[vertex].cell];
             Cause cause = kOwnBox;
             if (own != UINT32_MAX) {
@@ -156,15 +162,22 @@ int main(int argc, char** argv) {
                         const Box boxB = boxAt(w, k);
                         if (!holds(boxB, p, skinB)) continue;
                         bool nodeInside = false, contact = false;
+                        // The way A's contacts push A (B's push A the opposite way of theirs).
+                        auto push = [&](uint64_t key, float sign) {
+                            const auto it = contacts.find(key);
+                            if (it == contacts.end()) return;
+                            contact = true;
+                            pushes.push_back(it->second * sign);
+                        };
                         for (uint32_t n = 0; n < 8; ++n) {
                             const uint32_t nodeA = ownBox * 8 + n, nodeB = k * 8 + n;
                             if (holds(boxB, w.nodes[nodeA], skinB)) {
                                 nodeInside = true;
-                                contact |= contacts.count((uint64_t(nodeA) << 32) | k) > 0;
+                                push((uint64_t(nodeA) << 32) | k, 1.0f);
                             }
                             if (holds(boxA, w.nodes[nodeB], skinA)) {
                                 nodeInside = true;
-                                contact |= contacts.count((uint64_t(nodeB) << 32) | ownBox) > 0;
+                                push((uint64_t(nodeB) << 32) | ownBox, -1.0f);
                             }
                         }
                         const Cause reached = contact      ? kUnresolved
@@ -175,6 +188,14 @@ int main(int argc, char** argv) {
                 }
             }
             here[cause].add(depth);
+            if (cause == kUnresolved) {
+                // Whether those contacts push the vertex's body the way out: the best cosine
+                // between a push and the way to the other mesh's nearest surface point.
+                const Vec3 out = normalize(bench::closestPointOnSurface(p, views[b]) - p);
+                float best = -1;
+                for (const Vec3& n : pushes) best = std::max(best, dot(n, out));
+                way[best < 0 ? 0 : best < 0.7f ? 1 : 2].add(depth);
+            }
         };
         bench::measureInterpenetration(views, settings, classify);
         nlohmann::json row = {{"frame", f}};
@@ -209,6 +230,12 @@ int main(int argc, char** argv) {
         fmt::print("  own box: outside the box's planes by {:.3f} of a cell on average, {:.3f} at "
                    "most\n",
                    ownBoxExcess.depthSum / double(ownBoxExcess.vertices), ownBoxExcess.maxDepth);
+    const char* wayNames[3] = {"against the way out (cos < 0)", "sideways (cos 0-0.7)",
+                               "the way out (cos >= 0.7)"};
+    for (int k = 0; k < 3; ++k)
+        fmt::print("  unresolved, best push {:<30} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
+                   wayNames[k], way[k].vertices, 100 * way[k].maxDepth,
+                   way[k].vertices ? 100 * way[k].depthSum / double(way[k].vertices) : 0.0);
     if (!jsonPath.empty()) {
         std::ofstream out(jsonPath);
         out << nlohmann::json{{"scene", scene.name}, {"objects", build.bodies.size()},

@@ -42,34 +42,31 @@ D3 toD3(Vec3 v) {
 }
 
 // Squared distance from p to triangle abc (Ericson's region tests).
-double distanceSquaredToTriangle(D3 p, D3 a, D3 b, D3 c) {
+// The point of triangle abc nearest to p (Ericson, Real-Time Collision Detection, 5.1.5).
+D3 closestPointOnTriangle(D3 p, D3 a, D3 b, D3 c) {
     const D3 ab = b - a, ac = c - a, ap = p - a;
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return dot(ap, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
     const D3 bp = p - b;
     const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return dot(bp, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const D3 q = a + ab * (d1 / (d1 - d3));
-        return dot(p - q, p - q);
-    }
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
     const D3 cp = p - c;
     const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return dot(cp, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const D3 q = a + ac * (d2 / (d2 - d6));
-        return dot(p - q, p - q);
-    }
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const D3 q = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-        return dot(p - q, p - q);
-    }
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     const double denom = 1.0 / (va + vb + vc);
-    const D3 q = a + ab * (vb * denom) + ac * (vc * denom);
-    return dot(p - q, p - q);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+double distanceSquaredToTriangle(D3 p, D3 a, D3 b, D3 c) {
+    const D3 d = p - closestPointOnTriangle(p, a, b, c);
+    return dot(d, d);
 }
 
 Aabb boundsOf(std::span<const Vec3> vertices) {
@@ -111,6 +108,19 @@ double distanceToSurface(Vec3 point, const MeshView& mesh) {
                                                         toD3(mesh.vertices[t[1]]),
                                                         toD3(mesh.vertices[t[2]])));
     return std::sqrt(best);
+}
+
+Vec3 closestPointOnSurface(Vec3 point, const MeshView& mesh) {
+    const D3 p = toD3(point);
+    double best = std::numeric_limits<double>::infinity();
+    D3 nearest = p;
+    for (const auto& t : mesh.triangles) {
+        const D3 q = closestPointOnTriangle(p, toD3(mesh.vertices[t[0]]), toD3(mesh.vertices[t[1]]),
+                                            toD3(mesh.vertices[t[2]]));
+        const double d = dot(p - q, p - q);
+        if (d < best) best = d, nearest = q;
+    }
+    return {float(nearest.x), float(nearest.y), float(nearest.z)};
 }
 
 Interpenetration measureInterpenetration(std::span<const MeshView> bodies,

@@ -66,6 +66,9 @@ bool insideMesh(Vec3 point, const MeshView& mesh);
 /// Unsigned distance from `point` to the nearest triangle of `mesh`.
 double distanceToSurface(Vec3 point, const MeshView& mesh);
 
+/// The point of `mesh`'s surface nearest to `point`.
+Vec3 closestPointOnSurface(Vec3 point, const MeshView& mesh);
+
 /// Measures the interpenetration of `bodies` (each a closed mesh), the gaps between neighbours
 /// and their position relative to the floor. Cost: for each pair with overlapping bounds, one
 /// winding number per vertex of either body inside the other's bounds (O(#T) each); one

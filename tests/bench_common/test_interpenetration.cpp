@@ -58,6 +58,38 @@ TEST(Interpenetration, DistanceToSurfaceOfAUnitSphere) {
     EXPECT_NEAR(distanceToSurface(v * 3.0f, view(m)), 2.0, 1e-5);
 }
 
+// The nearest surface point lies at the distance distanceToSurface gives, on the surface, and
+// for a point inside a sphere roughly along the radius through it.
+TEST(Interpenetration, ClosestPointOnTheSurfaceOfAUnitSphere) {
+    const TriangleMesh m = sphere(1.0f, {1, 2, 3});
+    for (const Vec3 p : {Vec3{1.2f, 2.1f, 3.3f}, Vec3{0.5f, 2.0f, 3.0f}, Vec3{1, 5, 3}}) {
+        const Vec3 q = closestPointOnSurface(p, view(m));
+        EXPECT_NEAR(length(q - p), distanceToSurface(p, view(m)), 1e-5);
+        EXPECT_NEAR(distanceToSurface(q, view(m)), 0.0, 1e-5);
+        const Vec3 radial = normalize(p - Vec3{1, 2, 3});
+        EXPECT_GT(dot(normalize(q - Vec3{1, 2, 3}), radial), 0.99f);
+    }
+}
+
+// Every vertex the measure counts inside is reported once to the callback, with its depth.
+TEST(Interpenetration, TheCallbackSeesEveryInsideVertex) {
+    const std::vector<TriangleMesh> meshes = {sphere(1.0f, {}), sphere(1.0f, {1.5f, 0, 0})};
+    std::vector<MeshView> views;
+    for (const TriangleMesh& mesh : meshes) views.push_back(view(mesh));
+    int seen = 0;
+    double deepest = 0;
+    const Interpenetration r =
+        measureInterpenetration(views, {}, [&](size_t a, size_t vertex, size_t b, double depth) {
+            ++seen;
+            EXPECT_NE(a, b);
+            EXPECT_TRUE(insideMesh(views[a].vertices[vertex], views[b]));
+            deepest = std::max(deepest, depth);
+        });
+    EXPECT_GT(seen, 0);
+    EXPECT_EQ(seen, r.insideVertices);
+    EXPECT_EQ(deepest, r.maxDepth);
+}
+
 // Radius-1 spheres whose centres are 1.5 apart overlap by 0.5: the vertex of A on the line of
 // centres lies 0.5 from B's centre, so 0.5 inside B's sphere (a little less from B's faces).
 TEST(Interpenetration, UnitRadiusSpheresAtOnePointFive) {
