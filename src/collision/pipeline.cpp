@@ -27,8 +27,8 @@ constexpr float kTieTolerance = 0.2f;
 // The reach every hash query covers beyond its box, as a share of the hash cell: a node whose
 // body's reach is larger is stored in the cells of its cube shrunk by this much
 // (spatial_hash.h). Measured against the rule before per-body reaches (alphabets, spheres; 200
-// frames, enhanced): 0 (every fast node in every cell its cube meets) 1.42x and 1.39x the
-// time, 1/8 1.21x and 1.17x, 1/4 1.09x and 1.18x, 1/2 1.06x and 1.40x.
+// frames, enhanced, side by side): 0 (every fast node in every cell its cube meets) 1.42x and
+// 1.39x the time, 1/8 1.21x and 1.17x, 1/4 1.07x and 1.19x, 1/2 1.06x and 1.40x.
 constexpr float kReachAllowance = 0.25f;
 
 // How far any node of a body can travel in one substep, as |V| + D (mean velocity and largest
@@ -49,11 +49,10 @@ float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
 }
 
 // The margin is never more than B's skin plus each body's own reach, reachOf(A) + reachOf(B)
-// (|V_A - V_B| + D_A + D_B <= |V_A| + D_A + |V_B| + D_B). Finding the node/box pairs to test
-// by these per-body terms
-// makes what a box queries and how far a node reaches depend on their own bodies only: every
-// mode tests the same node/box pairs for a pair of bodies, whichever other bodies it also
-// tests, and the pair's margin then decides (findObjectContacts).
+// (|V_A - V_B| + D_A + D_B <= |V_A| + D_A + |V_B| + D_B). Finding the node/box pairs to test by
+// these per-body terms makes what a box queries and how far a node reaches depend on their own
+// bodies only: every mode tests the same node/box pairs for a pair of bodies, whichever other
+// bodies it also tests, and the pair's margin then decides (findObjectContacts).
 
 // A body's share of the largest margin phase 1 may allow its pairs (twice its skin and reach:
 // 2 marginOf(A, B) <= 2 (max(skin A, skin B) + reach A + reach B)), for the sweep's window.
