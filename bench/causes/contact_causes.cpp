@@ -3,7 +3,8 @@
 // Steps a scene and, every N frames, finds every mesh vertex inside another body's closed mesh
 // by the engine-independent measure (bench/common/interpenetration.h, generalised winding
 // number) and classifies it by the first of these causes that applies, judged on the state
-// after the frame and on the contacts of its last substep:
+// after the frame (boxes recomputed from the particles then) and on the contacts of its last
+// substep:
 //
 //   own box     the vertex lies outside its own cell's deformed box (the six face planes the
 //               narrow phase uses) by more than its body's contact skin: the box no longer
@@ -69,15 +70,76 @@ struct Box {
     detail::BoxPlanes planes;
 };
 
-Box boxAt(const detail::WorldData& w, uint32_t box) {
-    Box b{&w.nodes[size_t(box) * 8], w.boxBounds[box],
-          detail::boxPlanes(&w.nodes[size_t(box) * 8])};
+// The world's box nodes are those of the last substep's node update, before that substep's
+// motion; the mesh is the frame's end. The boxes are judged on nodes and bounds recomputed from
+// the particles at the frame's end, so that both describe the same instant.
+struct Boxes {
+    std::vector<Vec3> nodes;
+    std::vector<Aabb> bounds;
+};
+
+void updateBoxes(const detail::WorldData& w, Boxes& out) {
+    out.nodes.resize(w.nodes.size());
+    out.bounds.resize(w.boxBounds.size());
+    for (const detail::BodyRecord& r : w.bodies) {
+        updateBoxNodes(
+            r.model->lattice, std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
+            std::span<Vec3>(out.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8));
+        for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
+            Aabb b;
+            for (int n = 0; n < 8; ++n) b.add(out.nodes[size_t(k) * 8 + n]);
+            out.bounds[k] = b;
+        }
+    }
+}
+
+Box boxAt(const Boxes& boxes, uint32_t box) {
+    Box b{&boxes.nodes[size_t(box) * 8], boxes.bounds[box],
+          detail::boxPlanes(&boxes.nodes[size_t(box) * 8])};
     return b;
 }
 
 // Whether p lies within `skin` of every face plane of the box (all six faces count).
 bool holds(const Box& box, Vec3 p, float skin) {
     return detail::testNodeInBox(box.planes, box.bounds, 63, p, skin).inside;
+}
+
+// Whether p lies within `skin` inside every face of the box `box` of a cell whose corners are
+// `c`, each face taken as the plane through the face's centre (on the trilinear map) with the
+// normal of the map's two tangents there: the face planes computed from the cell, which a
+// thin box cannot make ill-conditioned (the box's own node diagonals can).
+bool insideTangentPlanes(const Vec3 c[8], const CellBox& box, Vec3 p, float skin) {
+    auto at = [&](Vec3 l) {
+        float w8[8];
+        trilinearWeights(l, w8);
+        Vec3 x{};
+        for (int k = 0; k < 8; ++k) x += c[k] * w8[k];
+        return x;
+    };
+    auto partials = [&](Vec3 l, Vec3 d[3]) {
+        const float s = l.x, t = l.y, u = l.z;
+        d[0] = (c[1] - c[0]) * ((1 - t) * (1 - u)) + (c[3] - c[2]) * (t * (1 - u)) +
+               (c[5] - c[4]) * ((1 - t) * u) + (c[7] - c[6]) * (t * u);
+        d[1] = (c[2] - c[0]) * ((1 - s) * (1 - u)) + (c[3] - c[1]) * (s * (1 - u)) +
+               (c[6] - c[4]) * ((1 - s) * u) + (c[7] - c[5]) * (s * u);
+        d[2] = (c[4] - c[0]) * ((1 - s) * (1 - t)) + (c[5] - c[1]) * (s * (1 - t)) +
+               (c[6] - c[2]) * ((1 - s) * t) + (c[7] - c[3]) * (s * t);
+    };
+    const Vec3 mid = (box.lo + box.hi) * 0.5f;
+    for (int f = 0; f < 6; ++f) {
+        const int axis = f >> 1;
+        Vec3 l = mid;
+        l[axis] = (f & 1) ? box.hi[axis] : box.lo[axis];
+        Vec3 d[3];
+        partials(l, d);
+        Vec3 n = cross(d[(axis + 1) % 3], d[(axis + 2) % 3]);
+        if (dot(n, d[axis]) < 0) n = -n; // along the axis the face closes
+        if (!(f & 1)) n = -n;            // outward
+        const float len = length(n);
+        if (!(len > 0)) continue;
+        if (dot(n / len, p - at(l)) > skin) return false;
+    }
+    return true;
 }
 
 } // namespace
@@ -119,7 +181,11 @@ int main(int argc, char** argv) {
     settings.referenceSize = largest;
 
     std::array<Tally, kCauseCount> total{};
+    Boxes now;
     Tally ownBoxExcess; // of the own-box vertices: how far outside their box, in cells
+    // Of those: how many lie in boxes thinner than a tenth of a cell, and how many are inside
+    // the planes taken from the cell's tangents at the face centres instead.
+    long long thinBoxes = 0, tangentPlanesHold = 0;
     // Of the unresolved ones, by the best alignment of their contacts' pushes with the way out
     // (cosine below 0, 0 to 0.7, 0.7 and above).
     std::array<Tally, 3> way{};
@@ -128,6 +194,7 @@ int main(int argc, char** argv) {
     for (int f = 1; f <= frames; ++f) {
         world.step();
         if (f % every != 0) continue;
+        updateBoxes(w, now);
         // The last substep's object contacts' normals, by (node, box) key.
         std::unordered_map<uint64_t, Vec3> contacts;
         for (const detail::Contact& c : w.collision.objectContacts())
@@ -143,7 +210,7 @@ int main(int argc, char** argv) {
             Cause cause = kOwnBox;
             if (own != UINT32_MAX) {
                 const uint32_t ownBox = A.firstBox + own;
-                const Box boxA = boxAt(w, ownBox);
+                const Box boxA = boxAt(now, ownBox);
                 const float skinA = w.settings.contactSkin * A.cellSize;
                 const float skinB = w.settings.contactSkin * B.cellSize;
                 if (!holds(boxA, p, skinA)) {
@@ -153,13 +220,20 @@ int main(int argc, char** argv) {
                         outside = std::max(outside, dot(boxA.planes.normal[face], p) -
                                                         boxA.planes.offset[face]);
                     ownBoxExcess.add(std::max(0.0f, outside) / A.cellSize);
+                    const CellBox& cb = LA.boxes[own];
+                    const auto& q = LA.cellParticles[cb.cell];
+                    Vec3 corners[8];
+                    for (int c = 0; c < 8; ++c) corners[c] = w.x[A.firstParticle + q[c]];
+                    tangentPlanesHold += insideTangentPlanes(corners, cb, p, skinA);
+                    const Vec3 e = cb.hi - cb.lo;
+                    thinBoxes += std::min({e.x, e.y, e.z}) < 0.1f;
                 } else {
                     cause = kNoBox;
                     // Each box of B holding the vertex: the furthest the detection got with
                     // any of them.
                     for (uint32_t k = B.firstBox; k < B.firstBox + B.boxCount; ++k) {
-                        if (!w.boxBounds[k].contains(p, skinB)) continue;
-                        const Box boxB = boxAt(w, k);
+                        if (!now.bounds[k].contains(p, skinB)) continue;
+                        const Box boxB = boxAt(now, k);
                         if (!holds(boxB, p, skinB)) continue;
                         bool nodeInside = false, contact = false;
                         // The way A's contacts push A (B's push A the opposite way of theirs).
@@ -171,11 +245,11 @@ int main(int argc, char** argv) {
                         };
                         for (uint32_t n = 0; n < 8; ++n) {
                             const uint32_t nodeA = ownBox * 8 + n, nodeB = k * 8 + n;
-                            if (holds(boxB, w.nodes[nodeA], skinB)) {
+                            if (holds(boxB, now.nodes[nodeA], skinB)) {
                                 nodeInside = true;
                                 push((uint64_t(nodeA) << 32) | k, 1.0f);
                             }
-                            if (holds(boxA, w.nodes[nodeB], skinA)) {
+                            if (holds(boxA, now.nodes[nodeB], skinA)) {
                                 nodeInside = true;
                                 push((uint64_t(nodeB) << 32) | ownBox, -1.0f);
                             }
@@ -226,6 +300,10 @@ int main(int argc, char** argv) {
         causes[kCauseKeys[c]] = {
             {"vertices", t.vertices}, {"max_depth_m", t.maxDepth}, {"mean_depth_m", mean}};
     }
+    if (ownBoxExcess.vertices > 0)
+        fmt::print("  own box: {} in boxes thinner than a tenth of a cell; {} inside the planes "
+                   "of the cell's tangents at the box's face centres\n",
+                   thinBoxes, tangentPlanesHold);
     if (ownBoxExcess.vertices > 0)
         fmt::print("  own box: outside the box's planes by {:.3f} of a cell on average, {:.3f} at "
                    "most\n",
