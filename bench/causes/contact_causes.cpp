@@ -104,44 +104,6 @@ bool holds(const Box& box, Vec3 p, float skin) {
     return detail::testNodeInBox(box.planes, box.bounds, 63, p, skin).inside;
 }
 
-// Whether p lies within `skin` inside every face of the box `box` of a cell whose corners are
-// `c`, each face taken as the plane through the face's centre (on the trilinear map) with the
-// normal of the map's two tangents there: the face planes computed from the cell, which a
-// thin box cannot make ill-conditioned (the box's own node diagonals can).
-bool insideTangentPlanes(const Vec3 c[8], const CellBox& box, Vec3 p, float skin) {
-    auto at = [&](Vec3 l) {
-        float w8[8];
-        trilinearWeights(l, w8);
-        Vec3 x{};
-        for (int k = 0; k < 8; ++k) x += c[k] * w8[k];
-        return x;
-    };
-    auto partials = [&](Vec3 l, Vec3 d[3]) {
-        const float s = l.x, t = l.y, u = l.z;
-        d[0] = (c[1] - c[0]) * ((1 - t) * (1 - u)) + (c[3] - c[2]) * (t * (1 - u)) +
-               (c[5] - c[4]) * ((1 - t) * u) + (c[7] - c[6]) * (t * u);
-        d[1] = (c[2] - c[0]) * ((1 - s) * (1 - u)) + (c[3] - c[1]) * (s * (1 - u)) +
-               (c[6] - c[4]) * ((1 - s) * u) + (c[7] - c[5]) * (s * u);
-        d[2] = (c[4] - c[0]) * ((1 - s) * (1 - t)) + (c[5] - c[1]) * (s * (1 - t)) +
-               (c[6] - c[2]) * ((1 - s) * t) + (c[7] - c[3]) * (s * t);
-    };
-    const Vec3 mid = (box.lo + box.hi) * 0.5f;
-    for (int f = 0; f < 6; ++f) {
-        const int axis = f >> 1;
-        Vec3 l = mid;
-        l[axis] = (f & 1) ? box.hi[axis] : box.lo[axis];
-        Vec3 d[3];
-        partials(l, d);
-        Vec3 n = cross(d[(axis + 1) % 3], d[(axis + 2) % 3]);
-        if (dot(n, d[axis]) < 0) n = -n; // along the axis the face closes
-        if (!(f & 1)) n = -n;            // outward
-        const float len = length(n);
-        if (!(len > 0)) continue;
-        if (dot(n / len, p - at(l)) > skin) return false;
-    }
-    return true;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -183,9 +145,6 @@ int main(int argc, char** argv) {
     std::array<Tally, kCauseCount> total{};
     Boxes now;
     Tally ownBoxExcess; // of the own-box vertices: how far outside their box, in cells
-    // Of those: how many lie in boxes thinner than a tenth of a cell, and how many are inside
-    // the planes taken from the cell's tangents at the face centres instead.
-    long long thinBoxes = 0, tangentPlanesHold = 0;
     // Of the unresolved ones, by the best alignment of their contacts' pushes with the way out
     // (cosine below 0, 0 to 0.7, 0.7 and above).
     std::array<Tally, 3> way{};
@@ -220,13 +179,6 @@ int main(int argc, char** argv) {
                         outside = std::max(outside, dot(boxA.planes.normal[face], p) -
                                                         boxA.planes.offset[face]);
                     ownBoxExcess.add(std::max(0.0f, outside) / A.cellSize);
-                    const CellBox& cb = LA.boxes[own];
-                    const auto& q = LA.cellParticles[cb.cell];
-                    Vec3 corners[8];
-                    for (int c = 0; c < 8; ++c) corners[c] = w.x[A.firstParticle + q[c]];
-                    tangentPlanesHold += insideTangentPlanes(corners, cb, p, skinA);
-                    const Vec3 e = cb.hi - cb.lo;
-                    thinBoxes += std::min({e.x, e.y, e.z}) < 0.1f;
                 } else {
                     cause = kNoBox;
                     // Each box of B holding the vertex: the furthest the detection got with
@@ -300,10 +252,6 @@ int main(int argc, char** argv) {
         causes[kCauseKeys[c]] = {
             {"vertices", t.vertices}, {"max_depth_m", t.maxDepth}, {"mean_depth_m", mean}};
     }
-    if (ownBoxExcess.vertices > 0)
-        fmt::print("  own box: {} in boxes thinner than a tenth of a cell; {} inside the planes "
-                   "of the cell's tangents at the box's face centres\n",
-                   thinBoxes, tangentPlanesHold);
     if (ownBoxExcess.vertices > 0)
         fmt::print("  own box: outside the box's planes by {:.3f} of a cell on average, {:.3f} at "
                    "most\n",
