@@ -20,7 +20,10 @@
 //   unresolved  a contact for such a node and box existed in the last substep and the vertex
 //               is still inside: the response did not remove it (competing contacts, too few
 //               iterations, shape matching spreading the correction, a wrong way out); split by
-//               how well the contacts' pushes point the way out of the other mesh.
+//               how well the contacts' pushes point the way out of the other mesh, and by
+//               whether those contacts' constraints hold at the frame's end (the solver did
+//               its job and the node-level geometry is what leaves the meshes overlapping) or
+//               are still violated (the solver did not converge).
 //
 // Prints a table per cause (vertices, share, deepest and mean depth) and writes it as JSON.
 #include "collision/contact.h"
@@ -39,6 +42,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -99,6 +103,16 @@ Box boxAt(const Boxes& boxes, uint32_t box) {
     return b;
 }
 
+// The contact's constraint C = (pA - pB) . n - offset on positions x (negative: violated).
+float violation(const detail::Contact& c, std::span<const Vec3> x) {
+    Vec3 pa{}, pb{};
+    for (int k = 0; k < 8; ++k) {
+        pa += x[c.a.particle[k]] * c.a.weight[k];
+        if (c.hasB) pb += x[c.b.particle[k]] * c.b.weight[k];
+    }
+    return dot(pa - pb, c.normal) - c.offset;
+}
+
 // Whether p lies within `skin` of every face plane of the box (all six faces count).
 bool holds(const Box& box, Vec3 p, float skin) {
     return detail::testNodeInBox(box.planes, box.bounds, 63, p, skin).inside;
@@ -148,6 +162,9 @@ int main(int argc, char** argv) {
     // Of the unresolved ones, by the best alignment of their contacts' pushes with the way out
     // (cosine below 0, 0 to 0.7, 0.7 and above).
     std::array<Tally, 3> way{};
+    // Of the unresolved ones, whether their contacts hold at the frame's end (the most violated
+    // one within a tenth of the skin) or are still violated.
+    std::array<Tally, 2> held{};
     std::vector<Vec3> pushes;
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
@@ -155,9 +172,9 @@ int main(int argc, char** argv) {
         if (f % every != 0) continue;
         updateBoxes(w, now);
         // The last substep's object contacts' normals, by (node, box) key.
-        std::unordered_map<uint64_t, Vec3> contacts;
+        std::unordered_map<uint64_t, const detail::Contact*> contacts;
         for (const detail::Contact& c : w.collision.objectContacts())
-            contacts.emplace(detail::contactKey(c), c.normal);
+            contacts.emplace(detail::contactKey(c), &c);
         std::array<Tally, kCauseCount> here{};
         auto classify = [&](size_t a, size_t vertex, size_t b, double depth) {
             const detail::BodyRecord& A = *records[a];
@@ -165,6 +182,7 @@ int main(int argc, char** argv) {
             const Lattice& LA = A.model->lattice;
             const Vec3 p = views[a].vertices[vertex];
             pushes.clear();
+            float residual = INFINITY; // the most violated of the vertex's contacts, now
             const uint32_t own = LA.cellBox[LA.vertices[vertex].cell];
             Cause cause = kOwnBox;
             if (own != UINT32_MAX) {
@@ -193,7 +211,8 @@ int main(int argc, char** argv) {
                             const auto it = contacts.find(key);
                             if (it == contacts.end()) return;
                             contact = true;
-                            pushes.push_back(it->second * sign);
+                            pushes.push_back(it->second->normal * sign);
+                            residual = std::min(residual, violation(*it->second, w.x));
                         };
                         for (uint32_t n = 0; n < 8; ++n) {
                             const uint32_t nodeA = ownBox * 8 + n, nodeB = k * 8 + n;
@@ -221,6 +240,8 @@ int main(int argc, char** argv) {
                 float best = -1;
                 for (const Vec3& n : pushes) best = std::max(best, dot(n, out));
                 way[best < 0 ? 0 : best < 0.7f ? 1 : 2].add(depth);
+                const float skinA = w.settings.contactSkin * records[a]->cellSize;
+                held[residual > -0.1f * skinA ? 0 : 1].add(depth);
             }
         };
         bench::measureInterpenetration(views, settings, classify);
@@ -262,6 +283,11 @@ int main(int argc, char** argv) {
         fmt::print("  unresolved, best push {:<30} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
                    wayNames[k], way[k].vertices, 100 * way[k].maxDepth,
                    way[k].vertices ? 100 * way[k].depthSum / double(way[k].vertices) : 0.0);
+    const char* heldNames[2] = {"hold at the frame's end", "still violated"};
+    for (int k = 0; k < 2; ++k)
+        fmt::print("  unresolved, contacts {:<31} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
+                   heldNames[k], held[k].vertices, 100 * held[k].maxDepth,
+                   held[k].vertices ? 100 * held[k].depthSum / double(held[k].vertices) : 0.0);
     if (!jsonPath.empty()) {
         std::ofstream out(jsonPath);
         out << nlohmann::json{{"scene", scene.name}, {"objects", build.bodies.size()},
