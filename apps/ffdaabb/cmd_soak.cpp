@@ -25,14 +25,15 @@ struct SoakOptions {
     SceneFlags scene;
     std::string frames = "20000", checkEvery = "10";
     std::string floorTolerance = "0.01", depthTolerance = "0.01", energyTolerance = "2",
-                riseTolerance = "0.5", settleTime = "1";
+                riseTolerance = "0.5", settleTime = "1", launchTolerance = "0", launchTime = "2";
     bool quiet = false;
 };
 
 struct SoakLimits {
     int frames = 0, checkEvery = 1;
     double floorTolerance = 0, depthTolerance = 0, energyTolerance = 0, riseTolerance = 0;
-    int settleFrames = 0;
+    double launchTolerance = 0;
+    int settleFrames = 0, launchFrames = 0;
 };
 
 // Total mechanical energy: the particles' kinetic energy plus each body's potential energy in
@@ -65,8 +66,13 @@ int soak(const SoakOptions& o) {
                                     "a multiple of the energy scale, 0..1000");
     const double settleTime =
         parseNumber("--settle-time", o.settleTime, 0, 1e6, "seconds of simulated time, >= 0");
+    lim.launchTolerance =
+        parseNumber("--launch-tolerance", o.launchTolerance, 0, 1e6, "metres per second, >= 0");
+    const double launchTime =
+        parseNumber("--launch-time", o.launchTime, 0, 1e6, "seconds of simulated time, >= 0");
     const Scene scene = sceneFromFlags(o.scene);
     lim.settleFrames = int(std::min(1e7, std::ceil(settleTime / double(scene.world.frameStep))));
+    lim.launchFrames = int(std::min(1e7, std::ceil(launchTime / double(scene.world.frameStep))));
     SceneBuild build = buildScene(scene);
     World& world = build.world;
     const std::vector<BodyId>& bodies = build.bodies;
@@ -96,7 +102,12 @@ int soak(const SoakOptions& o) {
     std::vector<bench::MeshView> views;
     for (BodyId id : bodies) views.push_back({world.vertices(id), world.triangles(id)});
 
+    // Each body's centre of mass at the last frame: its rise over one frame is how fast the body
+    // as a whole moves up, whatever its particles do.
+    std::vector<Vec3> lastCentre;
+    for (BodyId id : bodies) lastCentre.push_back(world.centreOfMass(id));
     double maxEnergyGain = 0, maxLateRise = 0, deepestBelowFloor = 0, deepest = 0;
+    double fastestRise = 0;
     int measures = 0, insideSamples = 0;
     const auto progress = o.quiet ? std::function<void(int, int)>() : progressBar(scene.name);
     const auto start = std::chrono::steady_clock::now();
@@ -129,6 +140,18 @@ int soak(const SoakOptions& o) {
                                           "more than {:g} times the energy scale {:.4g} J "
                                           "(lifting every object by its size)",
                                           rise, when, lim.riseTolerance, energyScale)};
+        }
+        const float gravity = length(ws.gravity);
+        for (size_t b = 0; b < bodies.size() && frame > 0 && gravity > 0; ++b) {
+            const Vec3 centre = world.centreOfMass(bodies[b]);
+            const double up = double(dot(centre - lastCentre[b], -ws.gravity)) /
+                              (double(gravity) * double(ws.frameStep));
+            lastCentre[b] = centre;
+            if (frame <= lim.launchFrames) continue;
+            fastestRise = std::max(fastestRise, up);
+            if (lim.launchTolerance > 0 && up > lim.launchTolerance)
+                return {true, fmt::format("object {} rises at {:.4g} m/s {}, faster than {:g} m/s",
+                                          b, up, when, lim.launchTolerance)};
         }
         if (ws.floor)
             for (size_t b = 0; b < bodies.size(); ++b) {
@@ -182,6 +205,11 @@ int soak(const SoakOptions& o) {
         fmt::print("  energy rise           {:.4f} of the scale at most after {} frames (limit "
                    "{:g})\n",
                    maxLateRise, lim.settleFrames, lim.riseTolerance);
+        fmt::print("  fastest rise          {:.3f} m/s of a centre of mass after {} frames "
+                   "({})\n",
+                   fastestRise, lim.launchFrames,
+                   lim.launchTolerance > 0 ? fmt::format("limit {:g}", lim.launchTolerance)
+                                           : std::string("not checked"));
         fmt::print("  below floor (max)     {:.4f} of the object's size (limit {:g})\n",
                    deepestBelowFloor, lim.floorTolerance);
         fmt::print("  interpenetration      deepest {:.4f} of the largest size (limit {:g}), "
@@ -218,6 +246,11 @@ void addSoakCommand(CLI::App& app, Action& action) {
     cmd->add_option("--settle-time", o->settleTime,
                     "Seconds of simulated time before the rise check starts: objects placed "
                     "close together are pushed apart at first (default 1)");
+    cmd->add_option("--launch-tolerance", o->launchTolerance,
+                    "After the launch time, fastest any object's centre of mass may rise, m/s "
+                    "(default 0: reported, not checked)");
+    cmd->add_option("--launch-time", o->launchTime,
+                    "Seconds of simulated time before the launch check starts (default 2)");
     cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary (failures still print)");
     cmd->footer("Exit status: 0 when every check held, 1 at the first violation (the message "
                 "says which check, by how much and at which frame), 2 for bad input.");

@@ -166,17 +166,6 @@ struct OverlapPair {
     uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
 };
 
-/// Contacts a node keeps in one substep, the deepest (pipeline.cpp).
-inline constexpr uint32_t kMaxContactsPerNode = 16;
-
-/// Indices (into CollisionState::all) of the contacts a node has this substep.
-struct NodeSlots {
-    uint32_t contact[kMaxContactsPerNode] = {};
-    uint64_t rank[kMaxContactsPerNode] = {}; ///< each contact's rank (pipeline.cpp), lower first
-    uint32_t count = 0;
-    uint32_t last = 0; ///< once full: the slot of the last-ranked contact, the next replaced
-};
-
 /// Collision buffers kept between steps (no steady-state allocation).
 struct CollisionState {
     std::vector<CandidatePair> pairs;
@@ -188,11 +177,10 @@ struct CollisionState {
     SpatialHash hash;
     std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
-    std::vector<NodeSlots> nodeSlots; ///< per node, its contacts (when nodeStamp == stamp)
-    std::vector<uint32_t> nodeStamp;
     uint32_t stamp = 0;
-    std::vector<uint8_t> partnerMark; ///< per body, during a box's query
-    std::vector<float> partnerMargin; ///< per body, its margin against the querying object
+    std::vector<uint64_t> boxPairKeys; ///< this substep's box pairs, (low box << 32 | high box)
+    std::vector<uint8_t> partnerMark;  ///< per body, during a box's query
+    std::vector<float> partnerMargin;  ///< per body, its margin against the querying object
     /// Per body, its bounds grown by its reach and by its skin and reach; a body's partners'
     /// of each; for `previous`, their prefix and suffix unions.
     std::vector<Aabb> reachBounds, queryBounds, partnerBounds, partnerQueryBounds;

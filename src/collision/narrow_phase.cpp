@@ -51,7 +51,7 @@ BoxPlanes boxPlanes(const Vec3 nodes[8]) {
 }
 
 NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
-                         Vec3 p, float skin, float tieTolerance) {
+                         Vec3 p, float skin) {
     NodeBoxHit hit;
     if (!nodeBounds.contains(p, skin)) return hit;
     float d[6];
@@ -62,33 +62,16 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
         if (d[f] > d[farthest]) farthest = f;
     }
     // A node outside the box (within the skin) through a face that leads into the object's own
-    // next cell belongs to that cell's box, not this one: taken here it would be pushed out
-    // through some far outside face as if it were deep inside.
+    // next cell belongs to that cell's box, not this one.
     const uint8_t candidates = outsideFaces ? outsideFaces : uint8_t(63);
     if (d[farthest] > 0 && !((candidates >> farthest) & 1)) return hit;
     float best = -INFINITY;
     for (int f = 0; f < 6; ++f)
         if ((candidates >> f) & 1)
             if (d[f] > best) best = d[f], hit.face = f;
-    for (int f = 0; f < 6; ++f)
-        if (((candidates >> f) & 1) && d[f] >= best - tieTolerance && d[f] >= -tieTolerance)
-            hit.tied |= uint8_t(1u << f);
     hit.inside = true;
     hit.distance = best;
     return hit;
-}
-
-void settleTie(const BoxPlanes& planes, Vec3 p, Vec3 ownCentre, NodeBoxHit& hit) {
-    if (!(hit.tied & (hit.tied - 1))) return;
-    auto side = [&](int f) { return dot(planes.normal[f], ownCentre) - planes.offset[f]; };
-    if (side(hit.face) > 0) return;
-    int face = -1;
-    float farthest = 0;
-    for (int f = 0; f < 6; ++f)
-        if (((hit.tied >> f) & 1) && side(f) > farthest) farthest = side(f), face = f;
-    if (face < 0) return;
-    hit.face = face;
-    hit.distance = dot(planes.normal[face], p) - planes.offset[face];
 }
 
 Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
@@ -113,6 +96,143 @@ Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
         if (lengthSquared(step) < 1e-12f) break; // float precision of local coordinates
     }
     return l;
+}
+
+} // namespace ffd::detail
+
+namespace ffd::detail {
+
+namespace {
+
+struct ClipVertex {
+    Vec3 position, local;
+};
+
+// Sutherland-Hodgman: keeps the part of the polygon with dot(n, p) - offset <= 0.
+int clipPolygon(const ClipVertex* in, int count, Vec3 n, float offset, ClipVertex* out) {
+    int kept = 0;
+    for (int i = 0; i < count; ++i) {
+        const ClipVertex& a = in[i];
+        const ClipVertex& b = in[(i + 1) % count];
+        const float da = dot(n, a.position) - offset, db = dot(n, b.position) - offset;
+        if (da <= 0) out[kept++] = a;
+        if ((da <= 0) != (db <= 0)) {
+            const float t = da / (da - db);
+            out[kept++] = {a.position + (b.position - a.position) * t,
+                           a.local + (b.local - a.local) * t};
+        }
+    }
+    return kept;
+}
+
+} // namespace
+
+BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, float margin,
+                                float tolerance) {
+    BoxPairManifold m;
+    const BoxView* boxes[2] = {&first, &second};
+    // Separation of the other box from each face plane of each box: the least signed distance
+    // of the other's nodes.
+    float separation[2][6];
+    float farthest = -INFINITY;
+    int farthestBox = 0, farthestFace = 0;
+    for (int r = 0; r < 2; ++r) {
+        const BoxPlanes& planes = *boxes[r]->planes;
+        const Vec3* other = boxes[1 - r]->nodes;
+        for (int f = 0; f < 6; ++f) {
+            float s = INFINITY;
+            for (int k = 0; k < 8; ++k)
+                s = minNum(s, dot(planes.normal[f], other[k]) - planes.offset[f]);
+            separation[r][f] = s;
+            if (s > farthest) farthest = s, farthestBox = r, farthestFace = f;
+        }
+    }
+    if (!(farthest < margin)) return m;
+    auto exits = [&](int r) {
+        const uint8_t outside = boxes[r]->outsideFaces;
+        return outside ? outside : uint8_t(63);
+    };
+    // Apart along a plane that leads into the neighbouring cell of its body: that cell's box
+    // is what the other box meets.
+    if (farthest > 0 && !((exits(farthestBox) >> farthestFace) & 1)) return m;
+    // The reference face: the allowed face of least overlap of each box; the second box's
+    // only when it is better by the tolerance, so that two boxes face to face keep one
+    // reference from substep to substep instead of flipping on rounding (which moves the
+    // contact points between the two faces' corners and leaves a resting stack jittering).
+    float bestOf[2] = {-INFINITY, -INFINITY};
+    int faceOf[2] = {-1, -1};
+    for (int r = 0; r < 2; ++r)
+        for (int f = 0; f < 6; ++f)
+            if (((exits(r) >> f) & 1) && separation[r][f] > bestOf[r])
+                bestOf[r] = separation[r][f], faceOf[r] = f;
+    m.reference = faceOf[0] >= 0 ? 0 : 1;
+    if (faceOf[0] >= 0 && faceOf[1] >= 0 && bestOf[1] > bestOf[0] + tolerance) m.reference = 1;
+    m.face = faceOf[m.reference];
+    const float best = bestOf[m.reference];
+    if (m.face < 0 || !(best < margin)) {
+        m.reference = -1;
+        return m;
+    }
+    const BoxView& ref = *boxes[m.reference];
+    const BoxView& inc = *boxes[1 - m.reference];
+    const Vec3 n = ref.planes->normal[m.face];
+    const float offset = ref.planes->offset[m.face];
+    m.normal = n;
+    // The incident face: the one whose normal is most opposed to the reference normal.
+    int incident = 0;
+    float opposed = INFINITY;
+    for (int g = 0; g < 6; ++g) {
+        const float d = dot(inc.planes->normal[g], n);
+        if (d < opposed) opposed = d, incident = g;
+    }
+    ClipVertex polygon[2][16];
+    int count = 4;
+    for (int k = 0; k < 4; ++k) {
+        const int node = kFaceNodes[incident][k];
+        polygon[0][k] = {inc.nodes[node], inc.local[node]};
+    }
+    int cur = 0;
+    for (int side = 0; side < 6 && count > 0; ++side) {
+        if ((side >> 1) == (m.face >> 1)) continue;
+        count = clipPolygon(polygon[cur], count, ref.planes->normal[side], ref.planes->offset[side],
+                            polygon[1 - cur]);
+        cur = 1 - cur;
+    }
+    ManifoldPoint found[16];
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+        const float d = dot(n, polygon[cur][k].position) - offset;
+        if (d < margin) found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d};
+    }
+    if (kept == 0) {
+        m.reference = -1;
+        return m;
+    }
+    if (kept <= 4) {
+        for (int k = 0; k < kept; ++k) m.point[k] = found[k];
+        m.count = kept;
+        return m;
+    }
+    // Four points: the deepest, the farthest from it, and the two that span the largest
+    // triangles with those on either side.
+    int pick[4] = {0, -1, -1, -1};
+    for (int k = 1; k < kept; ++k)
+        if (found[k].distance < found[pick[0]].distance) pick[0] = k;
+    float far = -1;
+    for (int k = 0; k < kept; ++k) {
+        const float d2 = lengthSquared(found[k].position - found[pick[0]].position);
+        if (d2 > far) far = d2, pick[1] = k;
+    }
+    float most = 0, least = 0;
+    const Vec3 a = found[pick[0]].position, b = found[pick[1]].position;
+    for (int k = 0; k < kept; ++k) {
+        const float area = dot(cross(b - a, found[k].position - a), n);
+        if (area > most) most = area, pick[2] = k;
+        if (area < least) least = area, pick[3] = k;
+    }
+    for (int k : pick)
+        if (k >= 0) m.point[m.count++] = found[k];
+    return m;
 }
 
 } // namespace ffd::detail

@@ -7,7 +7,6 @@
 #include "world/world_data.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 namespace ffd::detail {
@@ -18,11 +17,9 @@ float skinOf(const WorldData& w, const BodyRecord& b) {
 
 namespace {
 
-// Faces of a box whose planes lie within this share of the skin of the nearest one (and no
-// deeper) are a near tie for a node's way out (narrow_phase.h settleTie): 1 % of the cell size
-// at the default skin. Wider ties (the whole skin) also turned contacts that were plainly
-// nearer one face and changed the paper scenes' piles for the worse.
-constexpr float kTieTolerance = 0.2f;
+// A box pair's reference face is on its second box only when that overlaps less than the
+// first's by more than this share of the smaller skin (narrow_phase.h boxPairManifold).
+constexpr float kReferenceTolerance = 0.1f;
 
 // The reach every hash query covers beyond its box, as a share of the hash cell: a node whose
 // body's reach is larger is stored in the cells of its cube shrunk by this much
@@ -84,44 +81,48 @@ float combineFriction(const BodyRecord& a, const BodyRecord& b) {
     return std::sqrt(a.settings.friction * b.settings.friction);
 }
 
-// The contact for node `node` of body A found inside box `box` of body B.
-Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t node, Vec3 p, uint32_t bodyB,
-                          uint32_t box, const NodeBoxHit& hit, const BoxPlanes& planes) {
-    const BodyRecord& A = w.bodies[bodyA];
-    const BodyRecord& B = w.bodies[bodyB];
-    const Lattice& LA = A.model->lattice;
+// Local coordinates, in the cell of box `box` of body B, of point q (on or near the box):
+// the box's trilinear map inverted by Newton, started from its linearised map (close for all
+// but thin, strongly deformed boxes), kept within the box.
+Vec3 locateInBox(const WorldData& w, const BodyRecord& B, uint32_t box, const BoxPlanes& planes,
+                 Vec3 q) {
     const Lattice& LB = B.model->lattice;
-    Contact c;
-    c.bodyA = bodyA;
-    c.bodyB = bodyB;
-    c.nodeA = node;
-    c.boxB = box;
-    c.hasB = true;
-    c.normal = planes.normal[hit.face];
-    c.distance = hit.distance;
-    c.tolerated = toleratedOverlap(w, B, hit.distance, bodyA, bodyB);
-    c.friction = combineFriction(A, B);
-    c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
-    c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
-
-    const CellBox& boxA = LA.boxes[node / 8 - A.firstBox];
-    makeContactPoint(LA.cellParticles[boxA.cell].data(), A.firstParticle,
-                     boxA.nodeLocal(int(node % 8)), w.invMass, c.a, c.invMassA);
-
-    // B's point: the node projected onto the face plane, located in B's cell by inverting its
-    // trilinear map (Newton, started from the box's linearised map, which is close for all but
-    // thin, strongly deformed boxes), kept within the box.
     const CellBox& boxB = LB.boxes[box - B.firstBox];
     const auto& cornersB = LB.cellParticles[boxB.cell];
     Vec3 corners[8];
     for (int k = 0; k < 8; ++k) corners[k] = w.x[B.firstParticle + cornersB[k]];
-    const Vec3 q = p - c.normal * hit.distance;
     Vec3 abc = max(Vec3{0, 0, 0}, min(boxParameters(planes, q), Vec3{1, 1, 1}));
     if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
     Vec3 local = invertTrilinear(corners, q, boxB.lo + mul(boxB.hi - boxB.lo, abc), 3);
     if (!isFinite(local)) local = (boxB.lo + boxB.hi) * 0.5f;
-    local = max(boxB.lo, min(local, boxB.hi));
-    makeContactPoint(cornersB.data(), B.firstParticle, local, w.invMass, c.b, c.invMassB);
+    return max(boxB.lo, min(local, boxB.hi));
+}
+
+// A contact between body A's point at `localA` in the cell of box `boxA` and body B's box
+// `box`, pushing A along `normal`; `distance` is the signed distance to B's face plane and
+// `q` the point on it.
+Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec3 localA,
+                          uint32_t bodyB, uint32_t box, Vec3 normal, float distance, Vec3 q,
+                          const BoxPlanes& planes) {
+    const BodyRecord& A = w.bodies[bodyA];
+    const BodyRecord& B = w.bodies[bodyB];
+    Contact c;
+    c.bodyA = bodyA;
+    c.bodyB = bodyB;
+    c.boxB = box;
+    c.hasB = true;
+    c.normal = normal;
+    c.distance = distance;
+    c.tolerated = toleratedOverlap(w, B, distance, bodyA, bodyB);
+    c.friction = combineFriction(A, B);
+    c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
+    c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
+    const Lattice& LA = A.model->lattice;
+    makeContactPoint(LA.cellParticles[LA.boxes[boxA - A.firstBox].cell].data(), A.firstParticle,
+                     localA, w.invMass, c.a, c.invMassA);
+    const Lattice& LB = B.model->lattice;
+    makeContactPoint(LB.cellParticles[LB.boxes[box - B.firstBox].cell].data(), B.firstParticle,
+                     locateInBox(w, B, box, planes, q), w.invMass, c.b, c.invMassB);
     return c;
 }
 
@@ -340,11 +341,8 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
     // The node slots (which contacts each node has) are stamped the same way.
     s.planeStamp.resize(s.planes.size(), 0);
-    s.nodeStamp.resize(s.planes.size() * 8, 0);
-    s.nodeSlots.resize(s.planes.size() * 8);
     if (++s.stamp == 0) {
         std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0);
-        std::fill(s.nodeStamp.begin(), s.nodeStamp.end(), 0);
         s.stamp = 1;
     }
     // Each body's terms of the bound on the margin (marginOf): its nodes' reach and its boxes'
@@ -355,69 +353,62 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         s.reach[b] = reachOf(w, w.bodies[b]);
         s.skin[b] = skinOf(w, w.bodies[b]);
     }
-    // A node keeps at most kMaxContactsPerNode contacts (one per box that holds it), the
-    // first by rank: a boundary box before an interior one (an interior box has no face
-    // leading out of its body), then the deeper (signed distance to the exit face), then the
-    // lower box index. The ranking is a total order, so the kept set is the same in whatever
-    // order the boxes are visited and every mode finds the same contacts. The paper's scenes
-    // never reach the bound; bodies created overlapping would otherwise make a contact for
-    // every node in every box of every body around it (200 spheres at one spot: hundreds of
-    // millions) (docs/ALGORITHM.md, "Contacts per node").
-    // The rank as one integer: interior bit, the distance's bits in an order-preserving
-    // form, the box index (below 2^31: every box holds 8 nodes in memory).
-    auto rankOf = [](bool interior, float distance, uint32_t box) {
-        uint32_t bits = std::bit_cast<uint32_t>(distance + 0.0f); // -0 ranks as +0
-        bits = (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
-        return (uint64_t(interior) << 63) | (uint64_t(bits) << 31) | box;
-    };
-    // Node `node` of body A at p, whose cube of A's reach meets box `box` of body B grown by
-    // B's skin and reach (SpatialHash::cubeMeets: the one test every mode applies before
-    // this): the node/box test of phase 3, within the pair's margin (marginOf(A, B)).
-    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
-                       float margin) {
-        if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
-        ++outPotential;
-        const BodyRecord& B = w.bodies[bodyB];
+    s.boxPairKeys.clear();
+    auto planesOf = [&](uint32_t box) -> const BoxPlanes& {
         if (s.planeStamp[box] != s.stamp) {
             s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
             s.planeStamp[box] = s.stamp;
         }
-        const uint8_t outside = B.model->lattice.boxes[box - B.firstBox].outsideFaces;
-        NodeBoxHit hit = testNodeInBox(s.planes[box], w.boxBounds[box], outside, p, margin,
-                                       kTieTolerance * s.skin[bodyB]);
-        if (!hit.inside) return;
-        if (hit.tied & (hit.tied - 1)) {
-            // A node at an edge or corner of the box: settled by the side its own box lies on.
-            // (Aligned boxes: a node resting on the top face at the box's side plane would
-            // otherwise be pushed sideways by the first tenth of a millimetre of slack, while
-            // its box stays over this one, and fall in.)
-            Vec3 own{};
-            for (uint32_t k = 0; k < 8; ++k) own += w.nodes[(node & ~7u) + k];
-            settleTie(s.planes[box], p, own * 0.125f, hit);
+        return s.planes[box];
+    };
+    // The box pairs found (a node of one within the other's node bounds grown by the pair's
+    // margin), each tested once as a pair: its manifold's points become contacts.
+    auto emitBoxPairs = [&] {
+        std::vector<uint64_t>& keys = s.boxPairKeys;
+        std::sort(keys.begin(), keys.end());
+        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        for (const uint64_t key : keys) {
+            const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
+            uint32_t body[2];
+            BoxView view[2];
+            for (int k = 0; k < 2; ++k) {
+                body[k] = s.boxBody[box[k]];
+                const BodyRecord& r = w.bodies[body[k]];
+                const CellBox& cb = r.model->lattice.boxes[box[k] - r.firstBox];
+                view[k].nodes = &w.nodes[size_t(box[k]) * 8];
+                for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
+                view[k].planes = &planesOf(box[k]);
+                view[k].outsideFaces = cb.outsideFaces;
+            }
+            const BodyRecord& P = w.bodies[body[0]];
+            const BodyRecord& Q = w.bodies[body[1]];
+            const float margin = maxNum(marginOf(w, P, Q), marginOf(w, Q, P));
+            const float tolerance = kReferenceTolerance * minNum(s.skin[body[0]], s.skin[body[1]]);
+            const BoxPairManifold m = boxPairManifold(view[0], view[1], margin, tolerance);
+            if (m.reference < 0) continue;
+            const int ref = m.reference, inc = 1 - m.reference;
+            for (int k = 0; k < m.count; ++k) {
+                const ManifoldPoint& pt = m.point[k];
+                Contact c = makeObjectContact(
+                    w, body[inc], box[inc], pt.local, body[ref], box[ref], m.normal, pt.distance,
+                    pt.position - m.normal * pt.distance, *view[ref].planes);
+                c.nodeA = box[inc] * 8 + uint32_t(k);
+                out.push_back(c);
+            }
         }
-        NodeSlots& slots = s.nodeSlots[node];
-        if (s.nodeStamp[node] != s.stamp) s.nodeStamp[node] = s.stamp, slots.count = 0;
-        // Once the node's slots are full, the last-ranked one is known: a contact that does
-        // not outrank it costs one comparison (bodies created at one spot make tens of
-        // candidates per node, most rejected).
-        const uint64_t rank = rankOf(outside == 0, hit.distance, box);
-        uint32_t slot = slots.count;
-        if (slot < kMaxContactsPerNode) {
-            slots.contact[slots.count++] = uint32_t(out.size());
-            out.emplace_back();
-        } else if (rank < slots.rank[slots.last]) {
-            slot = slots.last;
-        } else {
-            return;
-        }
-        slots.rank[slot] = rank;
-        out[slots.contact[slot]] =
-            makeObjectContact(w, bodyA, node, p, bodyB, box, hit, s.planes[box]);
-        if (slots.count == kMaxContactsPerNode) {
-            slots.last = 0;
-            for (uint32_t k = 1; k < slots.count; ++k)
-                if (slots.rank[k] > slots.rank[slots.last]) slots.last = k;
-        }
+    };
+    // Node `node` of body A at p, whose cube of A's reach meets box `box` of body B grown by
+    // B's skin and reach (SpatialHash::cubeMeets: the one test every mode applies before
+    // this): when it lies within the box's node bounds grown by the pair's margin
+    // (marginOf(A, B)), the box pair of its own box and `box` is one to test (emitBoxPairs).
+    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
+                       float margin) {
+        if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
+        ++outPotential;
+        if (!w.boxBounds[box].contains(p, margin)) return;
+        const uint32_t own = node / 8;
+        s.boxPairKeys.push_back(own < box ? (uint64_t(own) << 32 | box)
+                                          : (uint64_t(box) << 32 | own));
     };
     auto grow = [](const Aabb& a, float r) {
         return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
@@ -439,6 +430,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                 }
             }
         }
+        emitBoxPairs();
         sortContacts(out, s.sortKeys, s.sortScratch);
         return;
     }
@@ -574,6 +566,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
                 s.partnerMark[s.partners[k]] = 0;
     }
+    emitBoxPairs();
     sortContacts(out, s.sortKeys, s.sortScratch);
 }
 

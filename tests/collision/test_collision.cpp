@@ -89,32 +89,102 @@ TEST(NarrowPhase, NodeJustOutsideGetsNoContact) {
     EXPECT_NEAR(near.distance, 0.015f, 1e-5f);
 }
 
-// A node at the box's top edge, exactly on the +x plane and 5 mm below the top: the nearest
-// way out is +x (distance 0), +y ties within the tolerance. A node whose own box lies above
-// the box (inside the +x plane) is sent out through the top; one whose box lies beside it
-// keeps +x; a node deeper than the tolerance below the top is no tie.
-TEST(NarrowPhase, NearTiesAreSettledByTheNodesOwnSide) {
+namespace {
+
+// A box pair's view of an axis-aligned box from lo to hi, all faces outside.
+struct TestBox {
     Vec3 nodes[8];
-    axisBox({0, 0, 0}, {1, 1, 1}, nodes);
-    const detail::BoxPlanes planes = detail::boxPlanes(nodes);
-    const Vec3 p{1.0f, 0.995f, 0.5f};
-    detail::NodeBoxHit hit = detail::testNodeInBox(planes, boundsOf(nodes), 63, p, 0.05f, 0.01f);
-    ASSERT_TRUE(hit.inside);
-    EXPECT_EQ(hit.face, 1);
-    EXPECT_EQ(hit.tied, (1 << 1) | (1 << 3));
-    detail::NodeBoxHit above = hit;
-    detail::settleTie(planes, p, {0.5f, 1.5f, 0.5f}, above);
-    EXPECT_EQ(above.face, 3);
-    EXPECT_NEAR(above.distance, -0.005f, 1e-5f);
-    detail::NodeBoxHit beside = hit;
-    detail::settleTie(planes, p, {1.5f, 0.9f, 0.5f}, beside);
-    EXPECT_EQ(beside.face, 1);
-    EXPECT_EQ(beside.distance, hit.distance);
-    const detail::NodeBoxHit deep =
-        detail::testNodeInBox(planes, boundsOf(nodes), 63, {1.0f, 0.98f, 0.5f}, 0.05f, 0.01f);
-    EXPECT_EQ(deep.tied, 1 << 1);
-    // Without a tolerance nothing ties.
-    EXPECT_EQ(detail::testNodeInBox(planes, boundsOf(nodes), 63, p, 0.05f).tied, 1 << 1);
+    detail::BoxPlanes planes;
+    detail::BoxView view;
+    TestBox(Vec3 lo, Vec3 hi, uint8_t outside = 63) {
+        axisBox(lo, hi, nodes);
+        planes = detail::boxPlanes(nodes);
+        view.nodes = nodes;
+        for (int n = 0; n < 8; ++n)
+            view.local[n] = {float(n & 1), float((n >> 1) & 1), float((n >> 2) & 1)};
+        view.planes = &planes;
+        view.outsideFaces = outside;
+    }
+    void transform(const Mat3& r, Vec3 t) {
+        for (Vec3& n : nodes) n = r * n + t;
+        planes = detail::boxPlanes(nodes);
+    }
+};
+
+} // namespace
+
+// A box resting 2 cm into a larger one: one normal for the pair and four points 2 cm deep at
+// the corners of the overlap. The faces overlap equally, so the first box given holds the
+// reference face: the larger one's top (the smaller box's bottom corners move up), or the
+// smaller one's bottom (the larger box's top face, clipped to it, moves down).
+TEST(NarrowPhase, FaceToFaceBoxesGiveFourPointsOnOneNormal) {
+    const TestBox big({0, 0, 0}, {1, 1, 1});
+    const TestBox small({0.25f, 0.98f, 0.25f}, {0.75f, 1.48f, 0.75f});
+    for (const bool bigFirst : {true, false}) {
+        SCOPED_TRACE(bigFirst ? "larger box first" : "smaller box first");
+        const detail::BoxPairManifold m =
+            bigFirst ? detail::boxPairManifold(big.view, small.view, 0.05f, 0.001f)
+                     : detail::boxPairManifold(small.view, big.view, 0.05f, 0.001f);
+        ASSERT_EQ(m.count, 4);
+        EXPECT_EQ(m.reference, 0);
+        const float up = bigFirst ? 1.0f : -1.0f;
+        EXPECT_LE(length(m.normal - Vec3{0, up, 0}), 1e-5f);
+        for (int k = 0; k < 4; ++k) {
+            const ffd::detail::ManifoldPoint& p = m.point[k];
+            EXPECT_NEAR(p.distance, -0.02f, 1e-5f);
+            EXPECT_NEAR(p.position.y, bigFirst ? 0.98f : 1.0f, 1e-5f);
+            // On the incident box's face: the smaller's bottom, the larger's top.
+            EXPECT_NEAR(p.local.y, bigFirst ? 0.0f : 1.0f, 1e-5f);
+            EXPECT_NEAR(std::abs(p.position.x - 0.5f), 0.25f, 1e-5f);
+            EXPECT_NEAR(std::abs(p.position.z - 0.5f), 0.25f, 1e-5f);
+        }
+    }
+    // The second box holds the reference when its face overlaps less by more than the
+    // tolerance: never here (equal), so a zero tolerance keeps the first.
+    EXPECT_EQ(detail::boxPairManifold(small.view, big.view, 0.05f, 0.0f).reference, 0);
+    // Apart by more than the margin: nothing.
+    const TestBox above({0.25f, 1.1f, 0.25f}, {0.75f, 1.6f, 0.75f});
+    EXPECT_LT(detail::boxPairManifold(big.view, above.view, 0.05f, 0.001f).reference, 0);
+}
+
+// A long box turned 45 degrees about its length (z), its lowest edge pushed 3 cm into the top
+// of another box and reaching beyond it on both sides, so that no node of either box lies
+// inside the other: the crossing that a node test cannot see. The pair gets contacts pushing
+// the turned box up, 3 cm deep.
+TEST(NarrowPhase, CrossingEdgesWithNoNodeInsideMakeAContact) {
+    const TestBox below({0, 0, 0}, {1, 1, 1});
+    TestBox turned({-0.5f, -0.5f, -1.0f}, {0.5f, 0.5f, 1.0f});
+    const float c = std::sqrt(0.5f);
+    const Mat3 rz{{{c, -c, 0}, {c, c, 0}, {0, 0, 1}}};
+    // Lowest edge along z at height -sqrt(0.5): lifted so it lies 3 cm below y = 1.
+    turned.transform(rz, {0.5f, 1.0f + c - 0.03f, 0.5f});
+    for (const Vec3& n : turned.nodes)
+        EXPECT_FALSE(detail::testNodeInBox(below.planes, boundsOf(below.nodes), 63, n, 0).inside);
+    for (const Vec3& n : below.nodes)
+        EXPECT_FALSE(detail::testNodeInBox(turned.planes, boundsOf(turned.nodes), 63, n, 0).inside);
+    const detail::BoxPairManifold m = detail::boxPairManifold(below.view, turned.view, 0.01f, 0);
+    ASSERT_GT(m.count, 0);
+    EXPECT_EQ(m.reference, 0);
+    EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
+    float deepest = 0;
+    for (int k = 0; k < m.count; ++k) deepest = std::min(deepest, m.point[k].distance);
+    EXPECT_NEAR(deepest, -0.03f, 1e-4f);
+}
+
+// Only faces that lead out of their objects give the pair's normal: a box pushed 10 cm into
+// the side of a box whose +x face leads into its object's next cell (not an outside face)
+// gets no contact from it when it lies beyond that face, and is pushed up, not sideways, when
+// it lies within it.
+TEST(NarrowPhase, BoxPairNormalsLeadOutOfTheObject) {
+    const uint8_t topOnly = kFaceMaxY;
+    const TestBox cell({0, 0, 0}, {1, 1, 1}, topOnly);
+    const TestBox beyond({1.02f, 0.5f, 0.2f}, {1.5f, 1.2f, 0.8f});
+    EXPECT_LT(detail::boxPairManifold(cell.view, beyond.view, 0.05f, 0.001f).reference, 0);
+    const TestBox within({0.9f, 0.95f, 0.2f}, {1.5f, 1.5f, 0.8f});
+    const detail::BoxPairManifold m =
+        detail::boxPairManifold(cell.view, within.view, 0.05f, 0.001f);
+    ASSERT_GT(m.count, 0);
+    EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
 }
 
 TEST(NarrowPhase, DeformedBoxPlanesFaceOutward) {
@@ -416,7 +486,7 @@ TEST(CollisionModes, SweepPathWithUnevenVelocitiesFindsIdenticalContacts) {
         total += brute.size();
         prunedPairs += size_t(n) * size_t(n - 1) / 2 - w.collision.pairs.size();
     }
-    EXPECT_GT(total, 20000u);      // they collide for real
+    EXPECT_GT(total, 5000u);       // they collide for real
     EXPECT_GT(prunedPairs, 5000u); // and the sweep rejects real pairs
 }
 
