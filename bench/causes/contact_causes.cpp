@@ -11,20 +11,22 @@
 //               bounds the mesh there, so no box test can see it;
 //   no box      it lies in no box of the other body (within that body's skin): inside the other
 //               mesh but outside all of its boxes' planes;
-//   crossing    the vertex's box and a box of the other body holding it overlap, but no node of
-//               either lies inside the other (within the other body's contact skin): edges or
-//               faces cross, which a node-in-box test cannot see;
+//   crossing    the vertex's box and a box of the other body holding it overlap, no node of
+//               either lies inside the other (within the other body's contact skin) and the
+//               last substep made no contact between the two boxes: edges or faces cross;
 //   no contact  some node of one box lies inside the other, but the last substep made no
-//               contact for it: the pair was not a candidate, the node's contact slots were full,
-//               or the node went in during that substep (found in the next);
-//   unresolved  a contact for such a node and box existed in the last substep and the vertex
-//               is still inside: the response did not remove it (competing contacts, too few
+//               contact between the two boxes: the pair was not a candidate, or the boxes met
+//               during that substep (found in the next);
+//   unresolved  the last substep made a contact between the two boxes and the vertex is still
+//               inside: the response did not remove it (competing contacts, too few
 //               iterations, shape matching spreading the correction, a wrong way out); split by
 //               how well the contacts' pushes point the way out of the other mesh, and by
 //               whether those contacts' constraints hold at the frame's end (the solver did
-//               its job and the node-level geometry is what leaves the meshes overlapping) or
+//               its job and the contacts' geometry is what leaves the meshes overlapping) or
 //               are still violated (the solver did not converge).
 //
+// Contacts are matched to the boxes they join (the box of A's point, B's box), so the tool
+// classifies node contacts (the paper's phase 3, before 2026-11) and box-pair contacts alike.
 // Prints a table per cause (vertices, share, deepest and mean depth) and writes it as JSON.
 #include "collision/contact.h"
 #include "collision/narrow_phase.h"
@@ -165,16 +167,21 @@ int main(int argc, char** argv) {
     // Of the unresolved ones, whether their contacts hold at the frame's end (the most violated
     // one within a tenth of the skin) or are still violated.
     std::array<Tally, 2> held{};
+    // Of the no-contact ones, whether the last substep tested the box pair and found no contact
+    // (apart along its planes by the margin, or the clipped face beyond it) or never tested it
+    // (no node came within the margin of the other box, or the pair was no candidate).
+    std::array<Tally, 2> tested{};
     std::vector<Vec3> pushes;
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
         world.step();
         if (f % every != 0) continue;
         updateBoxes(w, now);
-        // The last substep's object contacts' normals, by (node, box) key.
-        std::unordered_map<uint64_t, const detail::Contact*> contacts;
+        // The last substep's object contacts by the pair of boxes they join: (the box of A's
+        // point, B's box). A contact pushes its A along its normal.
+        std::unordered_multimap<uint64_t, const detail::Contact*> contacts;
         for (const detail::Contact& c : w.collision.objectContacts())
-            contacts.emplace(detail::contactKey(c), &c);
+            contacts.emplace((uint64_t(c.nodeA / 8) << 32) | c.boxB, &c);
         std::array<Tally, kCauseCount> here{};
         auto classify = [&](size_t a, size_t vertex, size_t b, double depth) {
             const detail::BodyRecord& A = *records[a];
@@ -183,6 +190,7 @@ int main(int argc, char** argv) {
             const Vec3 p = views[a].vertices[vertex];
             pushes.clear();
             float residual = INFINITY; // the most violated of the vertex's contacts, now
+            bool found = false;        // a box pair without contact was tested in the last substep
             const uint32_t own = LA.cellBox[LA.vertices[vertex].cell];
             Cause cause = kOwnBox;
             if (own != UINT32_MAX) {
@@ -206,33 +214,38 @@ int main(int argc, char** argv) {
                         const Box boxB = boxAt(now, k);
                         if (!holds(boxB, p, skinB)) continue;
                         bool nodeInside = false, contact = false;
-                        // The way A's contacts push A (B's push A the opposite way of theirs).
+                        // The way the pair's contacts push A (those whose A is B push A the
+                        // opposite way of their normal).
                         auto push = [&](uint64_t key, float sign) {
-                            const auto it = contacts.find(key);
-                            if (it == contacts.end()) return;
-                            contact = true;
-                            pushes.push_back(it->second->normal * sign);
-                            residual = std::min(residual, violation(*it->second, w.x));
+                            const auto [first, last] = contacts.equal_range(key);
+                            for (auto it = first; it != last; ++it) {
+                                contact = true;
+                                pushes.push_back(it->second->normal * sign);
+                                residual = std::min(residual, violation(*it->second, w.x));
+                            }
                         };
-                        for (uint32_t n = 0; n < 8; ++n) {
-                            const uint32_t nodeA = ownBox * 8 + n, nodeB = k * 8 + n;
-                            if (holds(boxB, now.nodes[nodeA], skinB)) {
-                                nodeInside = true;
-                                push((uint64_t(nodeA) << 32) | k, 1.0f);
-                            }
-                            if (holds(boxA, now.nodes[nodeB], skinA)) {
-                                nodeInside = true;
-                                push((uint64_t(nodeB) << 32) | ownBox, -1.0f);
-                            }
-                        }
+                        push((uint64_t(ownBox) << 32) | k, 1.0f);
+                        push((uint64_t(k) << 32) | ownBox, -1.0f);
+                        for (uint32_t n = 0; n < 8; ++n)
+                            nodeInside = nodeInside ||
+                                         holds(boxB, now.nodes[ownBox * 8 + n], skinB) ||
+                                         holds(boxA, now.nodes[k * 8 + n], skinA);
                         const Cause reached = contact      ? kUnresolved
                                               : nodeInside ? kNoContact
                                                            : kCrossing;
+                        if (reached == kNoContact) {
+                            const uint64_t pair = ownBox < k ? (uint64_t(ownBox) << 32 | k)
+                                                             : (uint64_t(k) << 32 | ownBox);
+                            found =
+                                found || std::binary_search(w.collision.boxPairKeys.begin(),
+                                                            w.collision.boxPairKeys.end(), pair);
+                        }
                         cause = std::max(cause, reached);
                     }
                 }
             }
             here[cause].add(depth);
+            if (cause == kNoContact) tested[found ? 0 : 1].add(depth);
             if (cause == kUnresolved) {
                 // Whether those contacts push the vertex's body the way out: the best cosine
                 // between a push and the way to the other mesh's nearest surface point.
@@ -283,6 +296,12 @@ int main(int argc, char** argv) {
         fmt::print("  unresolved, best push {:<30} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
                    wayNames[k], way[k].vertices, 100 * way[k].maxDepth,
                    way[k].vertices ? 100 * way[k].depthSum / double(way[k].vertices) : 0.0);
+    const char* testedNames[2] = {"tested, no contact", "not tested"};
+    for (int k = 0; k < 2; ++k)
+        fmt::print("  no contact, box pair {:<31} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
+                   testedNames[k], tested[k].vertices, 100 * tested[k].maxDepth,
+                   tested[k].vertices ? 100 * tested[k].depthSum / double(tested[k].vertices)
+                                      : 0.0);
     const char* heldNames[2] = {"hold at the frame's end", "still violated"};
     for (int k = 0; k < 2; ++k)
         fmt::print("  unresolved, contacts {:<31} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",

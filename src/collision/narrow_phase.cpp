@@ -143,11 +143,11 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
             float s = INFINITY;
             for (int k = 0; k < 8; ++k)
                 s = minNum(s, dot(planes.normal[f], other[k]) - planes.offset[f]);
+            if (!(s < margin)) return m; // apart along this plane by more than the margin
             separation[r][f] = s;
             if (s > farthest) farthest = s, farthestBox = r, farthestFace = f;
         }
     }
-    if (!(farthest < margin)) return m;
     auto exits = [&](int r) {
         const uint8_t outside = boxes[r]->outsideFaces;
         return outside ? outside : uint8_t(63);
@@ -205,8 +205,17 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
         if (d < margin) found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d};
     }
     if (kept == 0) {
-        m.reference = -1;
-        return m;
+        // The incident face lies beyond the reference face's sides (an edge or a corner of the
+        // incident box reaching in across a side of the reference face): its nodes within the
+        // margin of the reference plane, which the planes say the pair overlaps by.
+        for (int k = 0; k < 8; ++k) {
+            const float d = dot(n, inc.nodes[k]) - offset;
+            if (d < margin) found[kept++] = {inc.nodes[k], inc.local[k], d};
+        }
+        if (kept == 0) {
+            m.reference = -1;
+            return m;
+        }
     }
     if (kept <= 4) {
         for (int k = 0; k < kept; ++k) m.point[k] = found[k];

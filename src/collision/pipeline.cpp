@@ -407,8 +407,9 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         ++outPotential;
         if (!w.boxBounds[box].contains(p, margin)) return;
         const uint32_t own = node / 8;
-        s.boxPairKeys.push_back(own < box ? (uint64_t(own) << 32 | box)
-                                          : (uint64_t(box) << 32 | own));
+        const uint64_t key = own < box ? (uint64_t(own) << 32 | box) : (uint64_t(box) << 32 | own);
+        // A box's nodes come in order from each hash cell: most repeats are the last key.
+        if (s.boxPairKeys.empty() || s.boxPairKeys.back() != key) s.boxPairKeys.push_back(key);
     };
     auto grow = [](const Aabb& a, float r) {
         return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
