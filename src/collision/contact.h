@@ -1,11 +1,12 @@
 // Contacts and their response on lattice particles.
 //
-// A contact joins an embedded point of body A (a boundary node) to an embedded point of body B
-// (or the floor). Every embedded point is a trilinear blend sum_a w_a x_a of its cell's 8
-// particles, so a correction D at the point maps back to particles exactly: with inverse masses
-// 1/m_a, moving particle a by (w_a / m_a) * D / W, W = sum w_a^2 / m_a, moves the point by D
-// with the least mass-weighted motion. The correction is split between the two bodies by these
-// generalised inverse masses (Position Based Dynamics, Mueller et al. 2006).
+// A contact joins an embedded point of body A (a point of a box pair's manifold, or a boundary
+// node for the floor) to an embedded point of body B (or the floor). Every embedded point is a
+// trilinear blend sum_a w_a x_a of its cell's 8 particles, so a correction D at the point maps back
+// to particles exactly: with inverse masses 1/m_a, moving particle a by (w_a / m_a) * D / W, W =
+// sum w_a^2 / m_a, moves the point by D with the least mass-weighted motion. The correction is
+// split between the two bodies by these generalised inverse masses (Position Based Dynamics,
+// Mueller et al. 2006).
 //
 // The response of a substep. The dynamics has updated the velocities (not the positions), and
 // the contacts were found on the current positions, speculatively (within what the bodies can
@@ -64,8 +65,10 @@ struct Contact {
     bool hasB = false;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
-    uint32_t nodeA = 0;                     ///< world-wide node index on A
-    uint32_t boxB = UINT32_MAX;             ///< world-wide box index on B
+    /// A's point: its box x 8 + its index in the box pair's manifold (object contacts), or its
+    /// node (floor contacts).
+    uint32_t nodeA = 0;
+    uint32_t boxB = UINT32_MAX; ///< world-wide box index on B
     // Solver state.
     float approachSpeed = 0;   ///< normal velocity before the response
     float rigidImpulse = 0;    ///< normal impulse of the rigid phase
@@ -161,7 +164,7 @@ struct CandidatePair {
 /// A pair of bodies placed overlapping, remembered until apart (overlap_recovery.h).
 struct OverlapPair {
     uint32_t a = 0, b = 0; ///< dense indices, a < b; b = kFloorBody for the floor
-    uint8_t whole = 0;     ///< pushed apart as whole bodies, no node contacts (this substep)
+    uint8_t whole = 0;     ///< pushed apart as whole bodies, no object contacts (this substep)
     uint8_t deep = 0;      ///< a contact deeper than the skin (this substep)
     uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
 };

@@ -107,7 +107,7 @@ void trackOverlaps(WorldData& w) {
         const BodyRecord& B = w.bodies[p.b];
         // A centre inside the other's cells: the pair does overlap deeply. Once it has
         // overlapped, it stays whole until neither centre is within a cell of the other's
-        // cells, so that the node contacts take over shallow overlap only.
+        // cells, so that the object contacts take over shallow overlap only.
         const Vec3 ca = s.overlapCentre[p.a], cb = s.overlapCentre[p.b];
         if (insideCells(w, B, ca, 0) || insideCells(w, A, cb, 0))
             p.confirmed = 1, p.whole = 1;
@@ -160,7 +160,7 @@ void pushWholePairsApart(WorldData& w, float dt) {
         const float scale = minNum(A.sphereRadius, B.sphereRadius);
         d = len > 1e-4f * scale ? d / len : pairDirection(a, b);
         // The pair neither approaches along the line of centres (one resting on the other
-        // under gravity would otherwise fall through it: there are no node contacts).
+        // under gravity would otherwise fall through it: there are no object contacts).
         for (const uint32_t i : {a, b})
             if (std::isnan(velocity[i].x))
                 before[i] = velocity[i] = massWeightedMean(w.bodies[i], w.v);

@@ -11,7 +11,7 @@
 //     next substep (Contact::tolerated, as WorldSettings::pushOutSpeed does for every contact):
 //     the overlap goes at that speed, by moving positions, and the rigid phase leaves it out;
 //   - a pair with a centre of mass inside one of the other's lattice cells (deformed cell
-//     bounds, interior cells included) is "whole": it finds no node contacts, which would push
+//     bounds, interior cells included) is "whole": it finds no object contacts, which would push
 //     every node every way and only crush both, and its bodies move apart as rigid wholes along
 //     the line of their centres (a direction drawn from the pair's indices when the centres
 //     coincide), by positions only, at the recovery speed split by mass; a body with many
@@ -19,7 +19,7 @@
 //     speed; never down into the floor (the floor would stop the lowest cells only, and the dent
 //     would throw the body up). The pair does not approach along that line either (one resting
 //     on the other would fall through it). A pair that has overlapped stays whole until neither
-//     centre is within one cell of the other's cells, so the node contacts take over shallow
+//     centre is within one cell of the other's cells, so the object contacts take over shallow
 //     overlap only.
 // A pair is forgotten once it is not whole and has no contact deeper than the skin: from then
 // on it collides as any other pair. Pairs that meet in motion are never remembered, so scenes
@@ -44,7 +44,7 @@ void trackOverlaps(WorldData& world);
 /// Whether the pair (dense indices, any order; kFloorBody for the floor) is remembered.
 bool isRecovering(const WorldData& world, uint32_t bodyA, uint32_t bodyB);
 
-/// Whether the pair is whole this substep (its node contacts are left out).
+/// Whether the pair is whole this substep (its object contacts are left out).
 bool isWhole(const WorldData& world, uint32_t bodyA, uint32_t bodyB);
 
 /// After the contacts of a substep were found: forgets the pairs that are apart.

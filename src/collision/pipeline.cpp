@@ -273,7 +273,7 @@ void sphereTest(WorldData& w) {
         sphereTestSweep(w, s.pairs);
     else
         sphereTestAllPairs(w, s.pairs);
-    // Pairs placed one inside the other find no node contacts (overlap_recovery.h).
+    // Pairs placed one inside the other find no object contacts (overlap_recovery.h).
     if (!s.wholePairs.empty())
         std::erase_if(s.pairs, [&](const CandidatePair& p) { return isWhole(w, p.a, p.b); });
 
@@ -339,7 +339,6 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     if (mode == CollisionMode::None || n < 2) return;
 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
-    // The node slots (which contacts each node has) are stamped the same way.
     s.planeStamp.resize(s.planes.size(), 0);
     if (++s.stamp == 0) {
         std::fill(s.planeStamp.begin(), s.planeStamp.end(), 0);
