@@ -5,9 +5,10 @@
 #   scripts/test.sh --preset NAME    one build and its whole suite only (release, dev or asan)
 #
 # Stages: setup (packages, models); the release build and the whole suite; the library
-# installed to a temporary prefix with the examples built and run against it; the short soak
-# (600 frames of the spheres scene, every check); the asan build (ASan + UBSan) and the whole
-# suite under it; each libFuzzer target on 100,000 inputs from a fixed seed (at most 120 s).
+# installed to a temporary prefix with the examples built and run against it; the short soaks
+# (600 frames of the spheres and of the alphabets scene, every check); the asan build (ASan +
+# UBSan) and the whole suite under it; each libFuzzer target on 100,000 inputs from a fixed seed
+# (at most 120 s).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -64,8 +65,9 @@ fi
 
 suite release
 examples release
-stage "short soak"
+stage "short soaks: spheres and alphabets, 600 frames each, default tolerances"
 build/release/bin/ffdaabb soak --scene spheres --frames 600
+build/release/bin/ffdaabb soak --scene alphabets --frames 600
 suite asan
 # Repeatable: a fixed seed and at most 100,000 inputs per target (about 40 s for mesh_load here),
 # from a fresh corpus in a fresh clone, so CI tries the inputs a run here tried.
