@@ -123,6 +123,34 @@ TEST(ExtremeScenes, LetterOneMillimetreThick) {
     EXPECT_LT(kineticEnergyPerKilogram(world), 1e-4);
 }
 
+// A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm; 5 s
+// simulated. Criterion: the heavy sphere never more than 1 cm (1 % of the size) inside the
+// light one, checked every 10th frame by the meshes (winding number). Measured: within 1 cm at
+// every offset with box-pair contacts; 18 cm at the 5 cm offset with the paper's node contacts,
+// when this was the known bug HeavySphereDoesNotCrushALightOne. (The light one is still
+// squeezed out too fast: tests/known_bugs LightSphereIsNotThrownFromUnderAHeavyOne.)
+TEST(ExtremeScenes, HeavySphereDoesNotCrushALightOne) {
+    for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
+        SCOPED_TRACE("offset " + std::to_string(offset));
+        World world;
+        BodySettings s;
+        s.lattice.targetCells = 38;
+        s.position = {0, 0.5f, 0};
+        s.density = 10;
+        world.addBody(ball(), s);
+        s.position = {offset, 1.52f, 0};
+        s.density = 10000;
+        world.addBody(ball(), s);
+        double deepest = 0;
+        for (int f = 0; f < 300; ++f) {
+            world.step();
+            ASSERT_TRUE(allFinite(world)) << "frame " << f;
+            if (f % 10 == 0) deepest = std::max(deepest, deepestInside(world));
+        }
+        EXPECT_LE(deepest, 0.01);
+    }
+}
+
 // Touching spheres with a mass ratio of 1:1000, both ways round: a heavy sphere resting on a
 // light one and a light one on a heavy one, the upper sphere offset sideways by 0 to 10 cm
 // (what happens on the way depends on the offset: one offset alone passed or failed by chance);
@@ -130,9 +158,8 @@ TEST(ExtremeScenes, LetterOneMillimetreThick) {
 // Criteria, every offset: every frame finite and no vertex more than 1 cm below the floor (the
 // light sphere is not pressed through the floor); after 10 s no vertex inside another body
 // deeper than 1 cm, both heavy spheres at rest (slower than 0.1 m/s) and the total mechanical
-// energy below the start's (nothing gained). On the way the heavy sphere crushes into the
-// light one and squeezes it out at high speed: tests/known_bugs HeavySphereDoesNotCrushALight
-// One (docs/LIMITS.md).
+// energy below the start's (nothing gained). On the way the light sphere is squeezed out at
+// high speed: tests/known_bugs LightSphereIsNotThrownFromUnderAHeavyOne (docs/LIMITS.md).
 TEST(ExtremeScenes, MassRatioOneToAThousand) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));

@@ -17,15 +17,12 @@
 using namespace ffd;
 using ffd::test::ball;
 
-using ffd::test::deepestInside;
-
 // A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm (as
-// tests/extreme MassRatioOneToAThousand, which checks that both recover). Wanted: the heavy
-// sphere never more than 1 cm inside the light one (checked every 10th frame) and the light
-// one never thrown faster than 15 m/s. Today the contact split by mass leaves the light sphere
-// almost all of each correction: the heavy one crushes into it (18 cm at the 5 cm offset) and
-// shape matching then squeezes it out, at 18-37 m/s at four of the five offsets (docs/LIMITS.md).
-TEST(KnownBugs, HeavySphereDoesNotCrushALightOne) {
+// tests/extreme MassRatioOneToAThousand and HeavySphereDoesNotCrushALightOne, which check that
+// both recover and that the heavy one stays out of the light one). Wanted: the light one never
+// thrown faster than 15 m/s. Today the contact split by mass leaves the light sphere almost all
+// of each correction, and it is squeezed out at 20-28 m/s (docs/LIMITS.md).
+TEST(KnownBugs, LightSphereIsNotThrownFromUnderAHeavyOne) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));
         World world;
@@ -37,14 +34,11 @@ TEST(KnownBugs, HeavySphereDoesNotCrushALightOne) {
         s.position = {offset, 1.52f, 0};
         s.density = 10000;
         world.addBody(ball(), s);
-        double deepest = 0;
         float fastest = 0;
         for (int f = 0; f < 300; ++f) {
             world.step();
-            if (f % 10 == 0) deepest = std::max(deepest, deepestInside(world));
             fastest = std::max(fastest, length(world.linearVelocity(light)));
         }
-        EXPECT_LE(deepest, 0.01);
         EXPECT_LT(fastest, 15.0f);
     }
 }
