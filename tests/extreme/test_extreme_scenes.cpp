@@ -133,14 +133,7 @@ TEST(ExtremeScenes, HeavySphereDoesNotCrushALightOne) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));
         World world;
-        BodySettings s;
-        s.lattice.targetCells = 38;
-        s.position = {0, 0.5f, 0};
-        s.density = 10;
-        world.addBody(ball(), s);
-        s.position = {offset, 1.52f, 0};
-        s.density = 10000;
-        world.addBody(ball(), s);
+        test::addHeavyOnLight(world, offset);
         double deepest = 0;
         for (int f = 0; f < 300; ++f) {
             world.step();

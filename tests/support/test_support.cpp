@@ -118,6 +118,16 @@ BodySettings sphereAt(Vec3 position, Vec3 velocity) {
     return s;
 }
 
+BodyId addHeavyOnLight(World& world, float offset) {
+    BodySettings s = sphereAt({0, 0.5f, 0});
+    s.density = 10;
+    const BodyId light = world.addBody(ball(), s);
+    s = sphereAt({offset, 1.52f, 0});
+    s.density = 10000;
+    world.addBody(ball(), s);
+    return light;
+}
+
 double deepestInside(const World& world, float referenceSize) {
     std::vector<bench::MeshView> views;
     for (BodyId id : world.bodies()) views.push_back({world.vertices(id), world.triangles(id)});

@@ -70,6 +70,10 @@ TriangleMesh ball();
 /// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
 BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 
+/// A ball() 1,000 times heavier (density 10,000) resting on a light one (density 10) on the
+/// floor, offset sideways by `offset` metres: the mass-ratio case. Returns the light body.
+BodyId addHeavyOnLight(World& world, float offset);
+
 /// How deep the deepest mesh vertex lies inside another body's closed mesh (metres, 0 when none
 /// is): the winding-number measure of bench/common/interpenetration.h over all bodies.
 double deepestInside(const World& world, float referenceSize = 1.0f);
