@@ -296,7 +296,7 @@ std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
     md << "\nColumns: mesh updating = `mesh_update`; min, max updating = `node_update` (FFD-AABB "
           "nodes and per-object bounds); distance calculating = `sphere_test` (0 in `previous`, "
           "which has no phase 1); floor = `floor`; objects collision = `object_collision` (spatial "
-          "hash, node vs planes, response); dynamics = `dynamics` (not in the paper's table).\n";
+          "hash, box pairs, response); dynamics = `dynamics` (not in the paper's table).\n";
     return md.str();
 }
 

@@ -26,9 +26,9 @@ namespace ffd {
 
 /// Which collision pipeline runs between objects (the floor is handled in every mode).
 enum class CollisionMode : uint8_t {
-    Enhanced, ///< bounding spheres -> spatial hash -> node vs planes (Jeon, Choi, Hong 2012)
-    Previous, ///< spatial hash -> node vs planes (Jung, Hong, Choi 2011, the paper's baseline)
-    Brute,    ///< every node against every box of every other object (a test oracle)
+    Enhanced, ///< bounding spheres -> spatial hash -> box pairs (Jeon, Choi, Hong 2012)
+    Previous, ///< the same without phase 1: the paper's baseline (Jung, Hong, Choi 2011)
+    Brute,    ///< every node near every box of every other object names the box pairs (oracle)
     None,     ///< objects pass through each other
 };
 
@@ -120,7 +120,7 @@ struct Profile {
     double nodeUpdate = 0;      ///< FFD-AABB nodes from particles, per-object min/max
     double sphereTest = 0;      ///< bounding spheres and their pair test (enhanced only)
     double floor = 0;           ///< floor contacts
-    double objectCollision = 0; ///< spatial hash + node vs planes + contact solve
+    double objectCollision = 0; ///< spatial hash + box pairs + contact solve
     double meshUpdate = 0;      ///< embedded mesh vertices
     double total = 0;
 

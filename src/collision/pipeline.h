@@ -2,7 +2,7 @@
 //   node_update       FFD-AABB nodes from particles, per-box and per-object min/max
 //   sphere_test       phase 1: bounding spheres and candidate object pairs (enhanced only)
 //   floor             node-vs-floor contacts
-//   object_collision  phase 2 (spatial hash) + phase 3 (node vs planes) + the response of all
+//   object_collision  phase 2 (spatial hash) + phase 3 (box pairs) + the response of all
 //                     contacts
 // Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
 // 2012 (Fig. 2: the three phases); Jung, Hong, Choi, IET Image Processing 5(4), 2011.
