@@ -105,16 +105,6 @@ Box boxAt(const Boxes& boxes, uint32_t box) {
     return b;
 }
 
-// The contact's constraint C = (pA - pB) . n - offset on positions x (negative: violated).
-float violation(const detail::Contact& c, std::span<const Vec3> x) {
-    Vec3 pa{}, pb{};
-    for (int k = 0; k < 8; ++k) {
-        pa += x[c.a.particle[k]] * c.a.weight[k];
-        if (c.hasB) pb += x[c.b.particle[k]] * c.b.weight[k];
-    }
-    return dot(pa - pb, c.normal) - c.offset;
-}
-
 // Whether p lies within `skin` of every face plane of the box (all six faces count).
 bool holds(const Box& box, Vec3 p, float skin) {
     return detail::testNodeInBox(box.planes, box.bounds, 63, p, skin).inside;
@@ -221,7 +211,7 @@ int main(int argc, char** argv) {
                             for (auto it = first; it != last; ++it) {
                                 contact = true;
                                 pushes.push_back(it->second->normal * sign);
-                                residual = std::min(residual, violation(*it->second, w.x));
+                                residual = std::min(residual, detail::separation(*it->second, w.x));
                             }
                         };
                         push((uint64_t(ownBox) << 32) | k, 1.0f);

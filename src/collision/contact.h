@@ -80,6 +80,21 @@ struct Contact {
     float depth() const { return maxNum(0.0f, -distance); }
 };
 
+/// An embedded point's value: the trilinear blend of its particles' `values` (positions or
+/// velocities).
+inline Vec3 blend(const ContactPoint& p, std::span<const Vec3> values) {
+    Vec3 r{};
+    for (int k = 0; k < 8; ++k) r += values[p.particle[k]] * p.weight[k];
+    return r;
+}
+
+/// The contact's constraint C = (pA - pB) . n - offset on positions x: its points' separation
+/// along the normal (negative: overlap).
+inline float separation(const Contact& c, std::span<const Vec3> x) {
+    const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
+    return dot(blend(c.a, x) - pb, c.normal) - c.offset;
+}
+
 /// Sort key giving every contact set the same order whichever pipeline found it: by A's node,
 /// then B's box.
 inline uint64_t contactKey(const Contact& c) {

@@ -12,12 +12,6 @@ namespace ffd::detail {
 
 namespace {
 
-Vec3 blend(const ContactPoint& p, std::span<const Vec3> values) {
-    Vec3 r{};
-    for (int k = 0; k < 8; ++k) r += values[p.particle[k]] * p.weight[k];
-    return r;
-}
-
 // Moves the point by `delta` (generalised-inverse-mass weighted).
 void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> invMass,
           Vec3 delta) {
@@ -211,9 +205,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
     const bool follow = !v.empty();
     for (Contact& c : contacts) c.positionImpulse = 0;
     auto sweep = [&](Contact& c) {
-        const Vec3 pa = blend(c.a, x);
-        const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-        const float C = dot(pa - pb, c.normal) - c.offset - c.tolerated;
+        const float C = separation(c, x) - c.tolerated;
         const float W = c.invMassA + c.invMassB;
         if (C >= 0 || !(W > 0)) return C;
         const float lambda = -C / W;
@@ -262,8 +254,7 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     for (Contact& c : contacts) {
         c.normalImpulse = 0;
         c.tangentImpulse = {};
-        const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-        const float C = dot(blend(c.a, x) - pb, c.normal) - c.offset;
+        const float C = separation(c, x);
         c.gap = maxNum(C, 0.0f);
         deepest = maxNum(deepest, -C);
     }

@@ -63,7 +63,7 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
     }
     // A node outside the box (within the skin) through a face that leads into the object's own
     // next cell belongs to that cell's box, not this one.
-    const uint8_t candidates = outsideFaces ? outsideFaces : uint8_t(63);
+    const uint8_t candidates = exitFaces(outsideFaces);
     if (d[farthest] > 0 && !((candidates >> farthest) & 1)) return hit;
     float best = -INFINITY;
     for (int f = 0; f < 6; ++f)
@@ -97,10 +97,6 @@ Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
     }
     return l;
 }
-
-} // namespace ffd::detail
-
-namespace ffd::detail {
 
 namespace {
 
@@ -148,10 +144,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
             if (s > farthest) farthest = s, farthestBox = r, farthestFace = f;
         }
     }
-    auto exits = [&](int r) {
-        const uint8_t outside = boxes[r]->outsideFaces;
-        return outside ? outside : uint8_t(63);
-    };
+    auto exits = [&](int r) { return exitFaces(boxes[r]->outsideFaces); };
     // Apart along a plane that leads into the neighbouring cell of its body: that cell's box
     // is what the other box meets.
     if (farthest > 0 && !((exits(farthestBox) >> farthestFace) & 1)) return m;

@@ -44,6 +44,12 @@ inline Vec3 boxParameters(const BoxPlanes& box, Vec3 p) {
 
 BoxPlanes boxPlanes(const Vec3 nodes[8]);
 
+/// The faces of a box that lead out of its object, as BoxFace bits: its outside faces, or all
+/// six when it has none.
+inline uint8_t exitFaces(uint8_t outsideFaces) {
+    return outsideFaces ? outsideFaces : uint8_t(63);
+}
+
 /// Result of a node/box test.
 struct NodeBoxHit {
     bool inside = false;
@@ -62,10 +68,6 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
 /// Local coordinates (s,t,u) of p in the trilinear map of 8 corner positions (corner
 /// i + 2j + 4k), by Newton's method from `guess`; returns the best iterate.
 Vec3 invertTrilinear(const Vec3 corners[8], Vec3 p, Vec3 guess, int iterations = 6);
-
-} // namespace ffd::detail
-
-namespace ffd::detail {
 
 /// One cell box for the box-pair test: its 8 nodes (node n = i + 2j + 4k), their local
 /// coordinates in the box's lattice cell, its face planes and its outside faces (BoxFace bits).
@@ -96,10 +98,11 @@ struct BoxPairManifold {
 /// manifold of the axis of least overlap among the faces that lead out of their bodies
 /// (outside faces; all six when a box has none): the incident box's face most opposed to the
 /// reference face, clipped to the reference face's side planes, the points closer than
-/// `margin` to the reference plane, at most four (the deepest and the three that span the
-/// largest area with it). No contact when the boxes lie more than `margin` apart along any
-/// face plane, or apart along one that leads into the neighbouring cell of its body (that
-/// cell's box meets the other box first). The first box holds the reference face unless the
+/// `margin` to the reference plane (the incident box's nodes closer than that when the clipped
+/// face keeps none), at most four (the deepest, the farthest from it, and the two that span the
+/// largest triangles with those on either side). No contact when the boxes lie more than `margin`
+/// apart along any face plane, or apart along one that leads into the neighbouring cell of its body
+/// (that cell's box meets the other box first). The first box holds the reference face unless the
 /// second's face overlaps less by more than `tolerance`.
 BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, float margin,
                                 float tolerance);
