@@ -36,14 +36,23 @@ struct SoakLimits {
     int settleFrames = 0, launchFrames = 0;
 };
 
+// Each body's centre of mass.
+std::vector<Vec3> centresOfMass(const World& world, const std::vector<BodyId>& bodies) {
+    std::vector<Vec3> centres;
+    centres.reserve(bodies.size());
+    for (BodyId id : bodies) centres.push_back(world.centreOfMass(id));
+    return centres;
+}
+
 // Total mechanical energy: the particles' kinetic energy plus each body's potential energy in
-// the gravity field (mass times the height of its centre of mass, zero at the origin: only
-// changes matter). Joules.
-double mechanicalEnergy(const World& world, const std::vector<BodyId>& bodies) {
+// the gravity field (mass times the height of its centre of mass `centres`, zero at the origin:
+// only changes matter). Joules.
+double mechanicalEnergy(const World& world, const std::vector<BodyId>& bodies,
+                        const std::vector<Vec3>& centres) {
     const Vec3 g = world.settings().gravity;
     double e = world.kineticEnergy();
-    for (BodyId id : bodies)
-        e -= double(world.info(id).mass) * double(dot(g, world.centreOfMass(id)));
+    for (size_t b = 0; b < bodies.size(); ++b)
+        e -= double(world.info(bodies[b]).mass) * double(dot(g, centres[b]));
     return e;
 }
 
@@ -71,8 +80,11 @@ int soak(const SoakOptions& o) {
     const double launchTime =
         parseNumber("--launch-time", o.launchTime, 0, 1e6, "seconds of simulated time, >= 0");
     const Scene scene = sceneFromFlags(o.scene);
-    lim.settleFrames = int(std::min(1e7, std::ceil(settleTime / double(scene.world.frameStep))));
-    lim.launchFrames = int(std::min(1e7, std::ceil(launchTime / double(scene.world.frameStep))));
+    auto framesIn = [&](double seconds) {
+        return int(std::min(1e7, std::ceil(seconds / double(scene.world.frameStep))));
+    };
+    lim.settleFrames = framesIn(settleTime);
+    lim.launchFrames = framesIn(launchTime);
     SceneBuild build = buildScene(scene);
     World& world = build.world;
     const std::vector<BodyId>& bodies = build.bodies;
@@ -92,7 +104,10 @@ int soak(const SoakOptions& o) {
     for (size_t b = 0; b < bodies.size(); ++b)
         energyScale += double(world.info(bodies[b]).mass) * g * double(sizes[b]);
     if (!(energyScale > 0)) energyScale = 1; // no gravity: any gain shows against 1 J
-    const double initialEnergy = mechanicalEnergy(world, bodies);
+    // Each body's centre of mass at the last frame: its rise over one frame is how fast the body
+    // as a whole moves up, whatever its particles do.
+    std::vector<Vec3> lastCentre = centresOfMass(world, bodies);
+    const double initialEnergy = mechanicalEnergy(world, bodies, lastCentre);
     double lowestEnergy = initialEnergy;
 
     bench::InterpenetrationSettings measure;
@@ -102,10 +117,6 @@ int soak(const SoakOptions& o) {
     std::vector<bench::MeshView> views;
     for (BodyId id : bodies) views.push_back({world.vertices(id), world.triangles(id)});
 
-    // Each body's centre of mass at the last frame: its rise over one frame is how fast the body
-    // as a whole moves up, whatever its particles do.
-    std::vector<Vec3> lastCentre;
-    for (BodyId id : bodies) lastCentre.push_back(world.centreOfMass(id));
     double maxEnergyGain = 0, maxLateRise = 0, deepestBelowFloor = 0, deepest = 0;
     double fastestRise = 0;
     int measures = 0, insideSamples = 0;
@@ -124,7 +135,8 @@ int soak(const SoakOptions& o) {
                     return {true, fmt::format("object {}: a particle velocity is not finite {}", b,
                                               when)};
         }
-        const double energy = mechanicalEnergy(world, bodies);
+        std::vector<Vec3> centre = centresOfMass(world, bodies);
+        const double energy = mechanicalEnergy(world, bodies, centre);
         const double gain = energy - initialEnergy, rise = energy - lowestEnergy;
         lowestEnergy = std::min(lowestEnergy, energy);
         maxEnergyGain = std::max(maxEnergyGain, gain / energyScale);
@@ -142,17 +154,15 @@ int soak(const SoakOptions& o) {
                                           rise, when, lim.riseTolerance, energyScale)};
         }
         const float gravity = length(ws.gravity);
-        for (size_t b = 0; b < bodies.size() && frame > 0 && gravity > 0; ++b) {
-            const Vec3 centre = world.centreOfMass(bodies[b]);
-            const double up = double(dot(centre - lastCentre[b], -ws.gravity)) /
+        for (size_t b = 0; b < bodies.size() && frame > lim.launchFrames && gravity > 0; ++b) {
+            const double up = double(dot(centre[b] - lastCentre[b], -ws.gravity)) /
                               (double(gravity) * double(ws.frameStep));
-            lastCentre[b] = centre;
-            if (frame <= lim.launchFrames) continue;
             fastestRise = std::max(fastestRise, up);
             if (lim.launchTolerance > 0 && up > lim.launchTolerance)
                 return {true, fmt::format("object {} rises at {:.4g} m/s {}, faster than {:g} m/s",
                                           b, up, when, lim.launchTolerance)};
         }
+        lastCentre.swap(centre);
         if (ws.floor)
             for (size_t b = 0; b < bodies.size(); ++b) {
                 float lowest = INFINITY;
