@@ -119,6 +119,8 @@ int soak(const SoakOptions& o) {
 
     double maxEnergyGain = 0, maxLateRise = 0, deepestBelowFloor = 0, deepest = 0;
     double fastestRise = 0;
+    size_t fastestObject = 0; // which object rose fastest, and at which frame
+    int fastestFrame = 0;
     int measures = 0, insideSamples = 0;
     const auto progress = o.quiet ? std::function<void(int, int)>() : progressBar(scene.name);
     const auto start = std::chrono::steady_clock::now();
@@ -157,7 +159,7 @@ int soak(const SoakOptions& o) {
         for (size_t b = 0; b < bodies.size() && frame > lim.launchFrames && gravity > 0; ++b) {
             const double up = double(dot(centre[b] - lastCentre[b], -ws.gravity)) /
                               (double(gravity) * double(ws.frameStep));
-            fastestRise = std::max(fastestRise, up);
+            if (up > fastestRise) fastestRise = up, fastestObject = b, fastestFrame = frame;
             if (lim.launchTolerance > 0 && up > lim.launchTolerance)
                 return {true, fmt::format("object {} rises at {:.4g} m/s {}, faster than {:g} m/s",
                                           b, up, when, lim.launchTolerance)};
@@ -215,9 +217,12 @@ int soak(const SoakOptions& o) {
         fmt::print("  energy rise           {:.4f} of the scale at most after {} frames (limit "
                    "{:g})\n",
                    maxLateRise, lim.settleFrames, lim.riseTolerance);
-        fmt::print("  fastest rise          {:.3f} m/s of a centre of mass after {} frames "
+        fmt::print("  fastest rise          {:.3f} m/s of a centre of mass after {} frames{} "
                    "({})\n",
                    fastestRise, lim.launchFrames,
+                   fastestRise > 0
+                       ? fmt::format(": object {} at frame {}", fastestObject, fastestFrame)
+                       : std::string(),
                    lim.launchTolerance > 0 ? fmt::format("limit {:g}", lim.launchTolerance)
                                            : std::string("not checked"));
         fmt::print("  below floor (max)     {:.4f} of the object's size (limit {:g})\n",

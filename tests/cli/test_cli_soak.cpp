@@ -80,4 +80,13 @@ TEST(CliSoak, LaunchIsReportedWithItsFrame) {
                 "--depth-tolerance", "1", "--energy-tolerance", "100", "--rise-tolerance", "100"});
     EXPECT_EQ(quiet.status, 0) << quiet.err;
     EXPECT_NE(quiet.out.find("fastest rise"), std::string::npos) << quiet.out;
+    // With the launch check from the start, the report names the object that rose fastest
+    // and its frame (the upper sphere, object 1, pushed out in the first frames).
+    const RunResult named = runCli({"soak", "--scene", (dir / "overlap.json").string(), "--frames",
+                                    "60", "--depth-tolerance", "1", "--energy-tolerance", "100",
+                                    "--rise-tolerance", "100", "--launch-time", "0"});
+    EXPECT_EQ(named.status, 0) << named.err;
+    EXPECT_NE(named.out.find("m/s of a centre of mass after 0 frames: object 1 at frame "),
+              std::string::npos)
+        << named.out;
 }
