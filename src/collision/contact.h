@@ -59,9 +59,13 @@ struct Contact {
     float restitution = 0;
     float rigidity = 0; ///< share of the approach the rigid phase removes, [0, 1]
     float distance = 0; ///< signed distance to B's exit face (the floor) when detected
-    /// Overlap (<= 0) the projections leave in this substep: for a deep contact, what lies
-    /// beyond the push-out depth (pipeline.cpp); 0 otherwise. Deep contacts skip the rigid phase.
+    /// Overlap (<= 0) the projections leave in this substep: what lies beyond the push-out depth
+    /// of a deep contact (pushedOut), or beyond the depth its box pair can show
+    /// (BoxPairManifold::depthBound); 0 otherwise (pipeline.cpp).
     float tolerated = 0;
+    /// Its overlap goes over several substeps (push-out, overlap recovery): the rigid phase
+    /// leaves it out, since its approach is its bodies restoring the dent the last push-out left.
+    bool pushedOut = false;
     bool hasB = false;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
@@ -134,8 +138,8 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::vector<RigidState>& states);
 
-/// Step 1: for impacts (approaching faster than impactThreshold; deep contacts, with
-/// `tolerated` < 0, are never impacts), removes the share `rigidity`
+/// Step 1: for impacts (approaching faster than impactThreshold; contacts pushedOut are never
+/// impacts), removes the share `rigidity`
 /// of the approach beyond what the contact may close in this substep (speculative bound),
 /// through the bodies' rigid modes (normal impulses only), then applies the change to the
 /// bodies' particles. maxSeparationSpeed > 0 bounds how fast the phase may push two bodies'
@@ -197,8 +201,14 @@ struct CollisionState {
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
     uint32_t stamp = 0;
     std::vector<uint64_t> boxPairKeys; ///< this substep's box pairs, (low box << 32 | high box)
-    std::vector<uint8_t> partnerMark;  ///< per body, during a box's query
-    std::vector<float> partnerMargin;  ///< per body, its margin against the querying object
+    /// The depth each box pair with contacts claimed in the last substep (keys sorted), which
+    /// bounds what it may claim in this one (pipeline.cpp, emitBoxPairs); this substep's, made
+    /// by findObjectContacts and kept by findAllObjectContacts.
+    std::vector<uint64_t> claimKeys, nextClaimKeys;
+    std::vector<float> claimDepth, nextClaimDepth; ///< the depth claimed
+    std::vector<float> pairDepth, nextPairDepth;   ///< the deepest point's overlap
+    std::vector<uint8_t> partnerMark;              ///< per body, during a box's query
+    std::vector<float> partnerMargin; ///< per body, its margin against the querying object
     /// Per body, its bounds grown by its reach and by its skin and reach; a body's partners'
     /// of each; for `previous`, their prefix and suffix unions.
     std::vector<Aabb> reachBounds, queryBounds, partnerBounds, partnerQueryBounds;

@@ -104,7 +104,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         c.rigidImpulse = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
         // read as an impact, it would be turned into rigid motion (pipeline.cpp, push-out).
-        if (c.tolerated < 0 || !(rigidityOf(c) > 0)) continue;
+        if (c.pushedOut || !(rigidityOf(c) > 0)) continue;
         impacts.push_back(uint32_t(k));
         states[c.bodyA].active = true;
         if (c.hasB) states[c.bodyB].active = true;

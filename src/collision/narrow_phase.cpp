@@ -148,6 +148,9 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     // Apart along a plane that leads into the neighbouring cell of its body: that cell's box
     // is what the other box meets.
     if (farthest > 0 && !((exits(farthestBox) >> farthestFace) & 1)) return m;
+    // Overlapping along every plane, least along one that leads into a neighbouring cell: the
+    // pair shows no more than that overlap.
+    if (!((exits(farthestBox) >> farthestFace) & 1)) m.depthBound = -farthest;
     // The reference face: the allowed face of least overlap of each box; the second box's
     // only when it is better by the tolerance, so that two boxes face to face keep one
     // reference from substep to substep instead of flipping on rounding (which moves the

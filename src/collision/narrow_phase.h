@@ -92,6 +92,13 @@ struct BoxPairManifold {
     Vec3 normal;        ///< its outward normal: the way the incident box must move
     int count = 0;
     ManifoldPoint point[4];
+    /// How deep the pair can show its boxes overlap: when the plane of least overlap of all
+    /// twelve leads into the neighbouring cell of its body, that overlap (>= 0), since the rest
+    /// of the overlap along the normal lies across that plane, where the neighbouring cell's box
+    /// meets the other box; infinity otherwise. A box grazing that plane can lie a whole cell
+    /// deep along the normal: claimed at once, that depth threw resting bodies into the air
+    /// (docs/ALGORITHM.md, section 5).
+    float depthBound = INFINITY;
 };
 
 /// Separating-axis test of two deformed cell boxes on their twelve face planes, and the
@@ -102,7 +109,8 @@ struct BoxPairManifold {
 /// face keeps none), at most four (the deepest, the farthest from it, and the two that span the
 /// largest triangles with those on either side). No contact when the boxes lie more than `margin`
 /// apart along any face plane, or apart along one that leads into the neighbouring cell of its body
-/// (that cell's box meets the other box first). The first box holds the reference face unless the
+/// (that cell's box meets the other box first); when they overlap least along such a plane, the
+/// manifold's depthBound says by how much. The first box holds the reference face unless the
 /// second's face overlaps less by more than `tolerance`.
 BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, float margin,
                                 float tolerance);

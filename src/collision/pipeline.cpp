@@ -114,6 +114,7 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec
     c.normal = normal;
     c.distance = distance;
     c.tolerated = toleratedOverlap(w, B, distance, bodyA, bodyB);
+    c.pushedOut = c.tolerated < 0;
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
     c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
@@ -173,6 +174,29 @@ void rebuildCollisionTopology(WorldData& w) {
         s.bodyFirstParticle[b] = w.bodies[b].firstParticle;
         s.bodyParticleCount[b] = w.bodies[b].particleCount;
     }
+}
+
+void forgetBoxes(WorldData& w, uint32_t first, uint32_t count) {
+    CollisionState& s = w.collision;
+    size_t kept = 0;
+    for (size_t k = 0; k < s.claimKeys.size(); ++k) {
+        uint32_t box[2] = {uint32_t(s.claimKeys[k] >> 32), uint32_t(s.claimKeys[k])};
+        bool gone = false;
+        for (uint32_t& b : box) {
+            gone = gone || (b >= first && b < first + count);
+            if (b >= first + count) b -= count;
+        }
+        if (gone) continue;
+        // Renumbering both boxes down by the same count (or only the higher one) keeps the
+        // order of the keys, so they stay sorted.
+        s.claimKeys[kept] = uint64_t(box[0]) << 32 | box[1];
+        s.claimDepth[kept] = s.claimDepth[k];
+        s.pairDepth[kept] = s.pairDepth[k];
+        ++kept;
+    }
+    s.claimKeys.resize(kept);
+    s.claimDepth.resize(kept);
+    s.pairDepth.resize(kept);
 }
 
 void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
@@ -318,6 +342,7 @@ void findFloorContacts(WorldData& w) {
                 c.offset = floorY;
                 c.distance = y - floorY;
                 c.tolerated = toleratedOverlap(w, r, c.distance, b, kFloorBody);
+                c.pushedOut = c.tolerated < 0;
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
                 c.rigidity = r.settings.contactRigidity;
@@ -336,6 +361,9 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     outPotential = 0;
     CollisionState& s = w.collision;
     const uint32_t n = uint32_t(w.bodies.size());
+    s.nextClaimKeys.clear();
+    s.nextClaimDepth.clear();
+    s.nextPairDepth.clear();
     if (mode == CollisionMode::None || n < 2) return;
 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
@@ -366,6 +394,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         std::vector<uint64_t>& keys = s.boxPairKeys;
         std::sort(keys.begin(), keys.end());
         keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        size_t last = 0; // into the last substep's claims, sorted like keys
         for (const uint64_t key : keys) {
             const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
             uint32_t body[2];
@@ -386,12 +415,31 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             const BoxPairManifold m = boxPairManifold(view[0], view[1], margin, tolerance);
             if (m.reference < 0) continue;
             const int ref = m.reference, inc = 1 - m.reference;
+            // What the pair may claim: all its overlap, unless its boxes overlap least across
+            // a face into a neighbouring cell; then that overlap, or what it claimed in the last
+            // substep plus how far its bodies can close in one, whichever is more. A box
+            // grazing such a face can lie a cell deep along the normal: claimed at once, that
+            // depth threw resting letters into the air, while a pair that deepens under a load
+            // keeps up with it (docs/ALGORITHM.md, section 5).
+            float deepest = 0;
+            for (int k = 0; k < m.count; ++k) deepest = maxNum(deepest, -m.point[k].distance);
+            while (last < s.claimKeys.size() && s.claimKeys[last] < key) ++last;
+            const bool known = last < s.claimKeys.size() && s.claimKeys[last] == key;
+            const float claimed = known ? s.claimDepth[last] : 0.0f;
+            const float deepened = known ? maxNum(0.0f, deepest - s.pairDepth[last]) : 0.0f;
+            const float allowed =
+                m.depthBound < INFINITY ? maxNum(m.depthBound, claimed + deepened) : INFINITY;
+            s.nextClaimKeys.push_back(key);
+            s.nextClaimDepth.push_back(minNum(deepest, allowed));
+            s.nextPairDepth.push_back(deepest);
             for (int k = 0; k < m.count; ++k) {
                 const ManifoldPoint& pt = m.point[k];
                 Contact c = makeObjectContact(
                     w, body[inc], box[inc], pt.local, body[ref], box[ref], m.normal, pt.distance,
                     pt.position - m.normal * pt.distance, *view[ref].planes);
                 c.nodeA = box[inc] * 8 + uint32_t(k);
+                // The rest of the point's overlap is kept for later substeps.
+                c.tolerated = minNum(c.tolerated, minNum(0.0f, pt.distance + allowed));
                 out.push_back(c);
             }
         }
@@ -573,6 +621,9 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
 void findAllObjectContacts(WorldData& w) {
     CollisionState& s = w.collision;
     findObjectContacts(w, w.settings.mode, s.all, w.profile.potentialPairs);
+    std::swap(s.claimKeys, s.nextClaimKeys);
+    std::swap(s.claimDepth, s.nextClaimDepth);
+    std::swap(s.pairDepth, s.nextPairDepth);
     s.objectCount = s.all.size();
     w.profile.contacts = int(s.objectCount);
 }

@@ -24,6 +24,10 @@ float skinOf(const WorldData& world, const BodyRecord& body);
 /// Rebuilds the node/box -> body lookups after bodies were added or removed.
 void rebuildCollisionTopology(WorldData& world);
 
+/// After the boxes [first, first + count) were removed (and the later ones renumbered down by
+/// count): drops the box pairs' claims that involve them and renumbers the others.
+void forgetBoxes(WorldData& world, uint32_t first, uint32_t count);
+
 /// node_update for bodies [first, last): nodes, box bounds, body bounds.
 void updateNodes(WorldData& world, size_t firstBody, size_t lastBody);
 

@@ -293,6 +293,7 @@ bool World::removeBody(BodyId id) {
     w.freeSlots.push_back(id.index);
     w.collision.pairs.clear();
     detail::forgetBody(w, dense);
+    detail::forgetBoxes(w, r.firstBox, r.boxCount);
     detail::rebuildCollisionTopology(w);
     rebuildDynamicsBatches(w);
     return true;

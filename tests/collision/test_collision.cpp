@@ -185,6 +185,27 @@ TEST(NarrowPhase, BoxPairNormalsLeadOutOfTheObject) {
         detail::boxPairManifold(cell.view, within.view, 0.05f, 0.001f);
     ASSERT_GT(m.count, 0);
     EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
+    // Least overlap (5 cm) along the top, an outside face: nothing bounds the depth.
+    EXPECT_EQ(m.depthBound, INFINITY);
+}
+
+// Two cells whose only outside faces are their tops, the second reaching 1 cm across the
+// first's +x face (which leads into the first body's next cell) and 70 cm below its top: the
+// pair's normal is the first cell's top with points 70 cm deep, but its boxes overlap by only
+// 1 cm across the +x face, and that is all the pair can show (depthBound). The seventy
+// centimetres are the kind of claim that threw resting letters into the air.
+TEST(NarrowPhase, OverlapAcrossAFaceIntoTheNextCellBoundsThePairsDepth) {
+    const TestBox cell({0, 0, 0}, {1, 1, 1}, kFaceMaxY);
+    const TestBox grazing({0.99f, 0.3f, 0.2f}, {1.5f, 1.2f, 0.8f}, kFaceMaxY);
+    const detail::BoxPairManifold m =
+        detail::boxPairManifold(cell.view, grazing.view, 0.05f, 0.001f);
+    ASSERT_GT(m.count, 0);
+    EXPECT_EQ(m.reference, 0);
+    EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
+    float deepest = 0;
+    for (int k = 0; k < m.count; ++k) deepest = std::min(deepest, m.point[k].distance);
+    EXPECT_NEAR(deepest, -0.7f, 1e-4f);
+    EXPECT_NEAR(m.depthBound, 0.01f, 1e-4f);
 }
 
 TEST(NarrowPhase, DeformedBoxPlanesFaceOutward) {
@@ -659,4 +680,46 @@ TEST(CollisionModes, PaperScenesAtFullSizeAgree) {
         EXPECT_EQ(previous.world.stateHash(), enhanced.world.stateHash()) << name;
         EXPECT_GT(framesWithContacts, 10) << name << ": the objects must collide";
     }
+}
+
+// What each box pair claimed in the last substep is kept by box-pair key (pipeline.cpp,
+// emitBoxPairs). Removing a body renumbers the boxes after its own: the claims of the other
+// pairs follow their boxes, with the same depths, and none is left naming a removed box.
+TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
+    World world;
+    const BodyId first = world.addBody(ball(), sphereSettings({-3, 0.5f, 0}));
+    const BodyId lower = world.addBody(ball(), sphereSettings({0, 0.5f, 0}));
+    const BodyId upper = world.addBody(ball(), sphereSettings({0.1f, 1.45f, 0}));
+    const BodyId beside = world.addBody(ball(), sphereSettings({-3, 1.45f, 0}));
+    for (int f = 0; f < 30; ++f) world.step();
+    const detail::WorldData& w = world.data();
+    // Each claim as (body slot, box within the body) twice, and its depths.
+    using Claim = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t, float, float>;
+    auto claims = [&] {
+        std::set<Claim> out;
+        const auto& s = w.collision;
+        for (size_t k = 0; k < s.claimKeys.size(); ++k) {
+            uint32_t at[4];
+            for (int j = 0; j < 2; ++j) {
+                const uint32_t box =
+                    j == 0 ? uint32_t(s.claimKeys[k] >> 32) : uint32_t(s.claimKeys[k]);
+                const detail::BodyRecord& r = w.bodies[s.boxBody[box]];
+                at[2 * j] = r.slot;
+                at[2 * j + 1] = box - r.firstBox;
+            }
+            out.insert({at[0], at[1], at[2], at[3], s.claimDepth[k], s.pairDepth[k]});
+        }
+        return out;
+    };
+    const std::set<Claim> before = claims();
+    std::set<Claim> expected;
+    for (const Claim& c : before)
+        if (std::get<0>(c) != first.index && std::get<2>(c) != first.index) expected.insert(c);
+    ASSERT_FALSE(expected.empty());            // the stacked pairs touch
+    ASSERT_LT(expected.size(), before.size()); // and so do the first two on their own
+    ASSERT_TRUE(world.removeBody(first));
+    EXPECT_EQ(claims(), expected);
+    EXPECT_TRUE(std::is_sorted(w.collision.claimKeys.begin(), w.collision.claimKeys.end()));
+    for (int f = 0; f < 30; ++f) world.step();
+    EXPECT_TRUE(world.isValid(lower) && world.isValid(upper) && world.isValid(beside));
 }
