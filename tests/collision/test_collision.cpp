@@ -111,6 +111,13 @@ struct TestBox {
     }
 };
 
+// The signed distance of a manifold's deepest point (0 when none overlaps).
+float deepestPoint(const detail::BoxPairManifold& m) {
+    float deepest = 0;
+    for (int k = 0; k < m.count; ++k) deepest = std::min(deepest, m.point[k].distance);
+    return deepest;
+}
+
 } // namespace
 
 // A box resting 2 cm into a larger one: one normal for the pair and four points 2 cm deep at
@@ -166,9 +173,7 @@ TEST(NarrowPhase, CrossingEdgesWithNoNodeInsideMakeAContact) {
     ASSERT_GT(m.count, 0);
     EXPECT_EQ(m.reference, 0);
     EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
-    float deepest = 0;
-    for (int k = 0; k < m.count; ++k) deepest = std::min(deepest, m.point[k].distance);
-    EXPECT_NEAR(deepest, -0.03f, 1e-4f);
+    EXPECT_NEAR(deepestPoint(m), -0.03f, 1e-4f);
 }
 
 // Only faces that lead out of their objects give the pair's normal: a box pushed 10 cm into
@@ -202,9 +207,7 @@ TEST(NarrowPhase, OverlapAcrossAFaceIntoTheNextCellBoundsThePairsDepth) {
     ASSERT_GT(m.count, 0);
     EXPECT_EQ(m.reference, 0);
     EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
-    float deepest = 0;
-    for (int k = 0; k < m.count; ++k) deepest = std::min(deepest, m.point[k].distance);
-    EXPECT_NEAR(deepest, -0.7f, 1e-4f);
+    EXPECT_NEAR(deepestPoint(m), -0.7f, 1e-4f);
     EXPECT_NEAR(m.depthBound, 0.01f, 1e-4f);
 }
 
