@@ -188,6 +188,13 @@ struct OverlapPair {
     uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
 };
 
+/// The depth a box pair claimed in a substep (pipeline.cpp, emitBoxPairs).
+struct BoxPairClaim {
+    uint64_t key = 0;  ///< low box << 32 | high box
+    float claimed = 0; ///< the overlap its contacts were allowed to remove
+    float deepest = 0; ///< its deepest point's overlap
+};
+
 /// Collision buffers kept between steps (no steady-state allocation).
 struct CollisionState {
     std::vector<CandidatePair> pairs;
@@ -201,13 +208,11 @@ struct CollisionState {
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
     uint32_t stamp = 0;
     std::vector<uint64_t> boxPairKeys; ///< this substep's box pairs, (low box << 32 | high box)
-    /// The depth each box pair with contacts claimed in the last substep (keys sorted), which
+    /// What each box pair with contacts claimed in the last substep (sorted by key), which
     /// bounds what it may claim in this one (pipeline.cpp, emitBoxPairs); this substep's, made
     /// by findObjectContacts and kept by findAllObjectContacts.
-    std::vector<uint64_t> claimKeys, nextClaimKeys;
-    std::vector<float> claimDepth, nextClaimDepth; ///< the depth claimed
-    std::vector<float> pairDepth, nextPairDepth;   ///< the deepest point's overlap
-    std::vector<uint8_t> partnerMark;              ///< per body, during a box's query
+    std::vector<BoxPairClaim> claims, nextClaims;
+    std::vector<uint8_t> partnerMark; ///< per body, during a box's query
     std::vector<float> partnerMargin; ///< per body, its margin against the querying object
     /// Per body, its bounds grown by its reach and by its skin and reach; a body's partners'
     /// of each; for `previous`, their prefix and suffix unions.

@@ -77,6 +77,13 @@ float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance, 
     return distance < -depth ? distance + depth : 0.0f;
 }
 
+// Sets the contact's push-out: the overlap it keeps for later substeps and whether it does.
+void setPushOut(const WorldData& w, const BodyRecord& b, uint32_t bodyA, uint32_t bodyB,
+                Contact& c) {
+    c.tolerated = toleratedOverlap(w, b, c.distance, bodyA, bodyB);
+    c.pushedOut = c.tolerated < 0;
+}
+
 float combineFriction(const BodyRecord& a, const BodyRecord& b) {
     return std::sqrt(a.settings.friction * b.settings.friction);
 }
@@ -113,8 +120,7 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec
     c.hasB = true;
     c.normal = normal;
     c.distance = distance;
-    c.tolerated = toleratedOverlap(w, B, distance, bodyA, bodyB);
-    c.pushedOut = c.tolerated < 0;
+    setPushOut(w, B, bodyA, bodyB, c);
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
     c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
@@ -177,26 +183,18 @@ void rebuildCollisionTopology(WorldData& w) {
 }
 
 void forgetBoxes(WorldData& w, uint32_t first, uint32_t count) {
-    CollisionState& s = w.collision;
-    size_t kept = 0;
-    for (size_t k = 0; k < s.claimKeys.size(); ++k) {
-        uint32_t box[2] = {uint32_t(s.claimKeys[k] >> 32), uint32_t(s.claimKeys[k])};
+    // Renumbering both boxes down by the same count (or only the higher one) keeps the order
+    // of the keys, so they stay sorted.
+    std::erase_if(w.collision.claims, [&](BoxPairClaim& c) {
+        uint32_t box[2] = {uint32_t(c.key >> 32), uint32_t(c.key)};
         bool gone = false;
         for (uint32_t& b : box) {
             gone = gone || (b >= first && b < first + count);
             if (b >= first + count) b -= count;
         }
-        if (gone) continue;
-        // Renumbering both boxes down by the same count (or only the higher one) keeps the
-        // order of the keys, so they stay sorted.
-        s.claimKeys[kept] = uint64_t(box[0]) << 32 | box[1];
-        s.claimDepth[kept] = s.claimDepth[k];
-        s.pairDepth[kept] = s.pairDepth[k];
-        ++kept;
-    }
-    s.claimKeys.resize(kept);
-    s.claimDepth.resize(kept);
-    s.pairDepth.resize(kept);
+        c.key = uint64_t(box[0]) << 32 | box[1];
+        return gone;
+    });
 }
 
 void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
@@ -341,8 +339,7 @@ void findFloorContacts(WorldData& w) {
                 c.normal = {0, 1, 0};
                 c.offset = floorY;
                 c.distance = y - floorY;
-                c.tolerated = toleratedOverlap(w, r, c.distance, b, kFloorBody);
-                c.pushedOut = c.tolerated < 0;
+                setPushOut(w, r, b, kFloorBody, c);
                 c.friction = r.settings.friction;
                 c.restitution = r.settings.restitution;
                 c.rigidity = r.settings.contactRigidity;
@@ -361,9 +358,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     outPotential = 0;
     CollisionState& s = w.collision;
     const uint32_t n = uint32_t(w.bodies.size());
-    s.nextClaimKeys.clear();
-    s.nextClaimDepth.clear();
-    s.nextPairDepth.clear();
+    s.nextClaims.clear();
     if (mode == CollisionMode::None || n < 2) return;
 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
@@ -417,21 +412,19 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
             const int ref = m.reference, inc = 1 - m.reference;
             // What the pair may claim: all its overlap, unless its boxes overlap least across
             // a face into a neighbouring cell; then that overlap, or what it claimed in the last
-            // substep plus how far its bodies can close in one, whichever is more. A box
-            // grazing such a face can lie a cell deep along the normal: claimed at once, that
-            // depth threw resting letters into the air, while a pair that deepens under a load
-            // keeps up with it (docs/ALGORITHM.md, section 5).
+            // substep plus how much deeper its deepest point has got since, whichever is more.
+            // A box grazing such a face can lie a cell deep along the normal: claimed at once,
+            // that depth threw resting letters into the air, while a pair that deepens under a
+            // load keeps up with it (docs/ALGORITHM.md, section 5).
             float deepest = 0;
             for (int k = 0; k < m.count; ++k) deepest = maxNum(deepest, -m.point[k].distance);
-            while (last < s.claimKeys.size() && s.claimKeys[last] < key) ++last;
-            const bool known = last < s.claimKeys.size() && s.claimKeys[last] == key;
-            const float claimed = known ? s.claimDepth[last] : 0.0f;
-            const float deepened = known ? maxNum(0.0f, deepest - s.pairDepth[last]) : 0.0f;
-            const float allowed =
-                m.depthBound < INFINITY ? maxNum(m.depthBound, claimed + deepened) : INFINITY;
-            s.nextClaimKeys.push_back(key);
-            s.nextClaimDepth.push_back(minNum(deepest, allowed));
-            s.nextPairDepth.push_back(deepest);
+            while (last < s.claims.size() && s.claims[last].key < key) ++last;
+            const BoxPairClaim* before =
+                last < s.claims.size() && s.claims[last].key == key ? &s.claims[last] : nullptr;
+            const float grown =
+                before ? before->claimed + maxNum(0.0f, deepest - before->deepest) : 0.0f;
+            const float allowed = m.depthBound < INFINITY ? maxNum(m.depthBound, grown) : INFINITY;
+            s.nextClaims.push_back({key, minNum(deepest, allowed), deepest});
             for (int k = 0; k < m.count; ++k) {
                 const ManifoldPoint& pt = m.point[k];
                 Contact c = makeObjectContact(
@@ -621,9 +614,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
 void findAllObjectContacts(WorldData& w) {
     CollisionState& s = w.collision;
     findObjectContacts(w, w.settings.mode, s.all, w.profile.potentialPairs);
-    std::swap(s.claimKeys, s.nextClaimKeys);
-    std::swap(s.claimDepth, s.nextClaimDepth);
-    std::swap(s.pairDepth, s.nextPairDepth);
+    std::swap(s.claims, s.nextClaims);
     s.objectCount = s.all.size();
     w.profile.contacts = int(s.objectCount);
 }

@@ -700,17 +700,15 @@ TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
     using Claim = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t, float, float>;
     auto claims = [&] {
         std::set<Claim> out;
-        const auto& s = w.collision;
-        for (size_t k = 0; k < s.claimKeys.size(); ++k) {
+        for (const detail::BoxPairClaim& c : w.collision.claims) {
             uint32_t at[4];
             for (int j = 0; j < 2; ++j) {
-                const uint32_t box =
-                    j == 0 ? uint32_t(s.claimKeys[k] >> 32) : uint32_t(s.claimKeys[k]);
-                const detail::BodyRecord& r = w.bodies[s.boxBody[box]];
+                const uint32_t box = j == 0 ? uint32_t(c.key >> 32) : uint32_t(c.key);
+                const detail::BodyRecord& r = w.bodies[w.collision.boxBody[box]];
                 at[2 * j] = r.slot;
                 at[2 * j + 1] = box - r.firstBox;
             }
-            out.insert({at[0], at[1], at[2], at[3], s.claimDepth[k], s.pairDepth[k]});
+            out.insert({at[0], at[1], at[2], at[3], c.claimed, c.deepest});
         }
         return out;
     };
@@ -722,7 +720,10 @@ TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
     ASSERT_LT(expected.size(), before.size()); // and so do the first two on their own
     ASSERT_TRUE(world.removeBody(first));
     EXPECT_EQ(claims(), expected);
-    EXPECT_TRUE(std::is_sorted(w.collision.claimKeys.begin(), w.collision.claimKeys.end()));
+    EXPECT_TRUE(std::is_sorted(w.collision.claims.begin(), w.collision.claims.end(),
+                               [](const detail::BoxPairClaim& a, const detail::BoxPairClaim& b) {
+                                   return a.key < b.key;
+                               }));
     for (int f = 0; f < 30; ++f) world.step();
     EXPECT_TRUE(world.isValid(lower) && world.isValid(upper) && world.isValid(beside));
 }
