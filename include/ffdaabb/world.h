@@ -14,6 +14,7 @@
 #include "ffdaabb/lattice.h"
 #include "ffdaabb/math.h"
 #include "ffdaabb/mesh.h"
+#include "ffdaabb/tasks.h"
 
 #include <array>
 #include <cstdint>
@@ -89,9 +90,11 @@ struct WorldSettings {
     CollisionMode mode = CollisionMode::Enhanced;
     float contactSkin = 0.05f; ///< contact margin as a fraction of the cell size
     int solverIterations = 4;  ///< Gauss-Seidel iterations over contacts per substep
-    int threads = 1;           ///< worker threads for per-body stages (0 = all cores)
-    bool meshUpdate = true;    ///< update embedded mesh vertices at the end of each frame
-    int sweepThreshold = 64;   ///< bodies above which sphere pairs use sort-and-sweep
+    /// Worker threads of the world's own (0 = all cores): every stage of the step runs on them,
+    /// with bit-identical results for any count (World::setTaskSystem: a job system instead).
+    int threads = 1;
+    bool meshUpdate = true;  ///< update embedded mesh vertices at the end of each frame
+    int sweepThreshold = 64; ///< bodies above which sphere pairs use sort-and-sweep
     /// Bound (m/s) on how fast the rigid impact phase may push two bodies' rigid motions apart
     /// at a contact; 0: no bound. Set it (about 5) for scenes that create bodies overlapping:
     /// without it, deformation speed of crushed bodies is turned into rigid motion and throws
@@ -210,6 +213,11 @@ public:
     /// Changes settings; takes effect at the next step(). InputError on invalid values.
     void setSettings(const WorldSettings& settings);
     void setMode(CollisionMode mode);
+    /// Runs the step's parallel loops on `tasks` (a game engine's job system; ThreadPool)
+    /// instead of the world's own threads, whatever settings().threads says; null: back to the
+    /// world's own. The results are bit-identical either way (ffdaabb/tasks.h).
+    void setTaskSystem(std::shared_ptr<TaskSystem> tasks);
+    const std::shared_ptr<TaskSystem>& taskSystem() const;
 
     const Profile& profile() const;
     /// Frames stepped so far.

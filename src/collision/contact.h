@@ -37,6 +37,7 @@
 #include "collision/narrow_phase.h"
 #include "collision/spatial_hash.h"
 #include "ffdaabb/math.h"
+#include "util/workers.h"
 
 #include <span>
 #include <vector>
@@ -109,6 +110,48 @@ inline uint64_t contactKey(const Contact& c) {
 void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
                       std::span<const float> invMass, ContactPoint& out, float& outInvMass);
 
+/// The order in which the sweeps visit the contacts, for every thread count the same. The
+/// contacts are grouped in zones, each swept in canonical order; the zones of one colour share
+/// no body, so they are swept on any threads with the same result, and the colours one after
+/// the other (buildSolverSchedule).
+struct SolverSchedule {
+    std::vector<uint32_t> order;       ///< contact indices, zone by zone
+    std::vector<uint32_t> zoneStart;   ///< zone z: order[zoneStart[z], zoneStart[z + 1])
+    std::vector<uint32_t> colourStart; ///< colour c: zones [colourStart[c], colourStart[c + 1])
+    std::vector<uint32_t> bySize;      ///< each colour's zones, largest first (for balance)
+    std::vector<uint32_t> zoneOf, zones, next;     ///< scratch of buildSolverSchedule
+    std::vector<std::vector<uint32_t>> chunkZones; ///< scratch: the zones of each chunk
+    size_t zoneCount() const { return zoneStart.empty() ? 0 : zoneStart.size() - 1; }
+};
+
+/// A body's column of the solver's zones: the cell of its centre on a grid over x and z.
+struct ZoneCell {
+    static constexpr int32_t kNowhere = INT32_MIN; ///< a body without a finite centre
+    int32_t i = 0, k = 0;
+};
+
+/// Groups the contacts in zones by their bodies' cells (`cells`, per dense body index; any
+/// grid whose cells are at least as wide as every body gives few contacts outside the zones):
+/// a contact's zone is the 2 x 2 block of cells whose lowest corner is the lowest of its bodies'
+/// cells (its body's cell for the floor); the blocks with both corner indices of the same
+/// parities form a colour and share no body. A contact between bodies more than a cell apart
+/// goes to a last zone of its own colour. Each zone keeps the contacts' order.
+void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
+                         SolverSchedule& out, Workers& workers);
+
+/// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
+/// each body's reach (how far the first sweep moved it), the contacts the later sweeps visit
+/// (zone by zone, as the schedule's) and the schedule. bodyCount: the dense body indices are
+/// below it.
+struct SolverScratch {
+    std::vector<float> slack, bodyReach, zoneDeepest;
+    /// The contacts the later sweeps visit, and the rigid phase's impacts: zone z's at
+    /// [schedule.zoneStart[z], activeEnd[z]) (impactEnd[z]).
+    std::vector<uint32_t> active, activeEnd, impacts, impactEnd;
+    std::vector<ZoneCell> cells; ///< per body, for the schedule
+    SolverSchedule schedule;
+};
+
 /// A body as a rigid whole, for the rigid phase.
 struct RigidState {
     Vec3 centre;
@@ -133,10 +176,12 @@ struct RigidPoint {
 };
 
 /// Fills mass, centre and inertia of every body whose state is flagged active, and its rigid
-/// velocity and angular velocity when `v` is given (zero when it is empty).
+/// velocity and angular velocity when `v` is given (zero when it is empty); states[j] is body
+/// firstBody + j's.
 void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
-                        std::span<const uint32_t> particleCount, std::vector<RigidState>& states);
+                        std::span<const uint32_t> particleCount, std::span<RigidState> states,
+                        size_t firstBody = 0);
 
 /// Step 1: for impacts (approaching faster than impactThreshold; contacts pushedOut are never
 /// impacts), removes the share `rigidity`
@@ -146,25 +191,17 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
 /// rigid motions apart at a contact (0: no bound). Records approachSpeed and rigidImpulse of
 /// every contact.
 void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
-                     std::vector<RigidPoint>& scratch, std::span<const Vec3> x, std::span<Vec3> v,
+                     std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     float maxSeparationSpeed, int iterations,
-                     std::vector<uint32_t>& impactScratch);
-
-/// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
-/// each body's reach (how far the first sweep moved it), and the contacts the later sweeps
-/// visit. bodyCount: the dense body indices are below it.
-struct SolverScratch {
-    std::vector<float> slack, bodyReach;
-    std::vector<uint32_t> active;
-};
+                     float maxSeparationSpeed, int iterations, SolverScratch& scratch,
+                     Workers& workers);
 
 /// Steps 0 and 2: Gauss-Seidel position projection of C >= tolerated; velocities follow the
 /// corrections unless `v` is empty (pre-stabilisation).
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations,
-                           size_t bodyCount, SolverScratch& scratch);
+                           size_t bodyCount, SolverScratch& scratch, Workers& workers);
 
 /// Step 3: the speculative normal bound, restitution (approaches faster than bounceThreshold)
 /// and Coulomb friction. Returns the deepest remaining violation of the contacts' constraints
@@ -172,7 +209,7 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
                              std::span<Vec3> v, std::span<const float> invMass, float dt,
                              float bounceThreshold, int iterations, size_t bodyCount,
-                             SolverScratch& scratch);
+                             SolverScratch& scratch, Workers& workers);
 
 /// An object pair that passed the bounding-sphere test (dense body indices, a < b).
 struct CandidatePair {
@@ -202,7 +239,8 @@ struct CollisionState {
     std::vector<uint8_t> isCandidate;             ///< per body
     std::vector<uint32_t> sweepOrder;
     std::vector<float> sweepLo, sweepHi; ///< per body, its extent along x in the sweep
-    std::vector<float> reach, skin;      ///< per body, its terms of the margin (pipeline.cpp)
+    std::vector<std::vector<CandidatePair>> sweepChunks; ///< the sweep's pairs, per chunk
+    std::vector<float> reach, skin; ///< per body, its terms of the margin (pipeline.cpp)
     SpatialHash hash;
     std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
@@ -212,16 +250,40 @@ struct CollisionState {
     /// bounds what it may claim in this one (pipeline.cpp, emitBoxPairs); this substep's, made
     /// by findObjectContacts and kept by findAllObjectContacts.
     std::vector<BoxPairClaim> claims, nextClaims;
-    std::vector<uint8_t> partnerMark; ///< per body, during a box's query
-    std::vector<float> partnerMargin; ///< per body, its margin against the querying object
-    /// Per body, its bounds grown by its reach and by its skin and reach; a body's partners'
-    /// of each; for `previous`, their prefix and suffix unions.
-    std::vector<Aabb> reachBounds, queryBounds, partnerBounds, partnerQueryBounds;
+    /// Per worker thread, what its box queries use and find (findObjectContacts).
+    struct QueryScratch {
+        std::vector<uint8_t> partnerMark; ///< per body, during a box's query
+        std::vector<float> partnerMargin; ///< per body, its margin against the querying object
+        std::vector<uint64_t> keys;       ///< the box pairs it found (merged, sorted, unique)
+        int potential = 0;                ///< node/box pairs it tested
+        /// The partners of the body whose boxes it flags: their bounds one by one, or their
+        /// unions when there are many.
+        std::vector<Aabb> partnerBounds, partnerQueryBounds;
+        Aabb reachUnion, queryUnion;
+        bool individual = true;
+    };
+    std::vector<QueryScratch> queryScratch;
+    /// Per chunk of box pairs (a fixed number of consecutive keys), the contacts and claims of
+    /// its pairs: concatenated in chunk order, as one thread would have made them.
+    struct PairChunk {
+        std::vector<Contact> contacts;
+        std::vector<BoxPairClaim> claims;
+    };
+    std::vector<PairChunk> pairChunks;
+    std::vector<uint32_t> planeBoxes; ///< the boxes whose planes this substep's pairs use
+    /// Per body, its bounds grown by its reach and by its skin and reach; for `previous`, their
+    /// prefix and suffix unions.
+    std::vector<Aabb> reachBounds, queryBounds;
     std::vector<Aabb> prefixBounds, suffixBounds, prefixQueryBounds, suffixQueryBounds;
-    std::vector<uint8_t> boxFlags; ///< per box: queried, hashed (this substep)
+    std::vector<uint8_t> boxFlags;               ///< per box: queried, hashed (this substep)
+    std::vector<uint32_t> hashedNodes;           ///< per body, its nodes hashed (this substep)
+    std::vector<SpatialHash::Batch> hashBatches; ///< the nodes staged per batch of bodies
     /// This substep's contacts: the objects' (canonical order), then the floor's.
     std::vector<Contact> all;
-    std::vector<std::pair<uint64_t, uint32_t>> sortKeys; ///< scratch of the canonical sort
+    // Scratch of the canonical sort: where the contacts come from, their keys, the result.
+    std::vector<std::span<const Contact>> sortSpans;
+    std::vector<const Contact*> sortSources;
+    std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
     std::vector<Contact> sortScratch;
     size_t objectCount = 0;
     std::span<const Contact> objectContacts() const { return {all.data(), objectCount}; }
@@ -232,8 +294,7 @@ struct CollisionState {
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase
     std::vector<uint32_t> bodyFirstParticle, bodyParticleCount;
     std::vector<RigidPoint> rigidPoints;
-    SolverScratch solver;          ///< scratch of the projection and velocity pass
-    std::vector<uint32_t> impacts; ///< scratch of the rigid phase
+    SolverScratch solver; ///< scratch of the projection and velocity pass
     // Overlap recovery (overlap_recovery.h).
     std::vector<OverlapPair> overlaps; ///< remembered pairs, sorted by (a, b)
     std::vector<uint64_t> wholePairs;  ///< this substep's whole pairs, (a << 32 | b), sorted

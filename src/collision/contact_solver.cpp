@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace ffd::detail {
 
@@ -21,15 +22,66 @@ void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> 
     }
 }
 
-// The contacts the later sweeps visit: those whose slack (separation, or velocity slack) is
-// under twice the reach of their two bodies (how far the first sweep moved them).
-void selectReachable(std::span<const Contact> contacts, SolverScratch& s) {
-    s.active.clear();
-    for (size_t n = 0; n < contacts.size(); ++n) {
+// Calls fn(z) for the zones z of the schedule whose subset [zoneStart[z], end[z]) is not empty
+// (`end`: the schedule's zoneStart shifted by one, or a subset's ends): colour after colour,
+// the zones of a colour on the workers.
+template <class F>
+void forEachZone(const SolverSchedule& schedule, std::span<const uint32_t> end, Workers& workers,
+                 F&& fn) {
+    // A colour with few contacts to visit runs on the calling thread: handing it out would
+    // cost more than it saves.
+    constexpr uint32_t kParallelWork = 512;
+    for (size_t c = 0; c + 1 < schedule.colourStart.size(); ++c) {
+        const uint32_t first = schedule.colourStart[c], last = schedule.colourStart[c + 1];
+        uint32_t work = 0;
+        for (uint32_t z = first; z < last && work < kParallelWork; ++z)
+            work += end[z] - schedule.zoneStart[z];
+        if (last - first == 1 || workers.count() == 1 || work < kParallelWork) {
+            for (uint32_t z = first; z < last; ++z)
+                if (schedule.zoneStart[z] < end[z]) fn(z);
+            continue;
+        }
+        // Largest zones first, so that no thread is left with a large one at the end.
+        workers.forChunks(last - first, 1, [&](size_t from, size_t to, int) {
+            for (size_t k = first + from; k < first + to; ++k) {
+                const uint32_t z = schedule.bySize[k];
+                if (schedule.zoneStart[z] < end[z]) fn(z);
+            }
+        });
+    }
+}
+
+// Every zone's contacts: its range of the schedule's order.
+std::span<const uint32_t> zoneEnds(const SolverSchedule& schedule) {
+    return std::span<const uint32_t>(schedule.zoneStart).subspan(1);
+}
+
+// Keeps, zone by zone on the workers, the contacts of the schedule for which keep(n) holds:
+// zone z's at [zoneStart[z], end[z]) of `kept` (in the schedule's order).
+template <class F>
+void selectInZones(const SolverSchedule& schedule, Workers& workers, std::vector<uint32_t>& kept,
+                   std::vector<uint32_t>& end, F&& keep) {
+    kept.resize(schedule.order.size());
+    end.resize(schedule.zoneCount());
+    workers.forChunks(schedule.zoneCount(), 4, [&](size_t first, size_t last, int) {
+        for (size_t z = first; z < last; ++z) {
+            uint32_t out = schedule.zoneStart[z];
+            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m)
+                if (keep(schedule.order[m])) kept[out++] = schedule.order[m];
+            end[z] = out;
+        }
+    });
+}
+
+// The contacts the later sweeps visit, zone by zone: those whose slack (separation, or
+// velocity slack) is under twice the reach of their two bodies (how far the first sweep moved
+// them).
+void selectReachable(std::span<const Contact> contacts, SolverScratch& s, Workers& workers) {
+    selectInZones(s.schedule, workers, s.active, s.activeEnd, [&](uint32_t n) {
         const Contact& c = contacts[n];
         const float reach = 2.0f * (s.bodyReach[c.bodyA] + (c.hasB ? s.bodyReach[c.bodyB] : 0.0f));
-        if (s.slack[n] < reach) s.active.push_back(uint32_t(n));
-    }
+        return s.slack[n] < reach;
+    });
 }
 
 } // namespace
@@ -44,11 +96,108 @@ void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, V
     }
 }
 
+void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
+                         SolverSchedule& out, Workers& workers) {
+    out.order.clear();
+    out.zoneStart.clear();
+    out.colourStart.clear();
+    out.bySize.clear();
+    if (contacts.empty()) return;
+    int32_t i0 = INT32_MAX, k0 = INT32_MAX;
+    for (const ZoneCell& c : cells)
+        if (c.i != ZoneCell::kNowhere) i0 = std::min(i0, c.i), k0 = std::min(k0, c.k);
+    // Zone key: colour (0-3), then the block's indices from the lowest cell (14 bits each).
+    // The tail, colour 4, is one zone: the contacts between bodies more than a cell apart
+    // (which may share bodies with any zone), and blocks beyond the indices' range.
+    constexpr uint32_t kTail = 4u << 28;
+    constexpr int64_t kBlocks = 1 << 14;
+    std::vector<uint32_t>& zoneOf = out.zoneOf;
+    zoneOf.resize(contacts.size());
+    workers.forRange(contacts.size(), [&](size_t first, size_t last, int) {
+        for (size_t n = first; n < last; ++n) {
+            const Contact& c = contacts[n];
+            const ZoneCell a = cells[c.bodyA];
+            const ZoneCell b = c.hasB ? cells[c.bodyB] : a;
+            const int64_t i = int64_t(std::min(a.i, b.i)) - i0;
+            const int64_t k = int64_t(std::min(a.k, b.k)) - k0;
+            uint32_t zone = kTail;
+            if (std::abs(int64_t(a.i) - b.i) <= 1 && std::abs(int64_t(a.k) - b.k) <= 1 && i >= 0 &&
+                k >= 0 && i < kBlocks && k < kBlocks)
+                zone = uint32_t((i & 1) | (k & 1) << 1) << 28 | uint32_t(i) << 14 | uint32_t(k);
+            zoneOf[n] = zone;
+        }
+    });
+    // The zones in key order (few: sorted directly), then the contacts counted into them in
+    // their order: a counting sort in fixed chunks of contacts, each chunk counted and placed
+    // on a thread.
+    constexpr size_t kChunk = 4096;
+    const size_t chunks = (contacts.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<uint32_t>>& seen = out.chunkZones;
+    if (seen.size() < chunks) seen.resize(chunks);
+    workers.forChunks(contacts.size(), kChunk, [&](size_t first, size_t last, int) {
+        std::vector<uint32_t>& mine = seen[first / kChunk];
+        mine.clear();
+        for (size_t n = first; n < last; ++n) // runs of one zone are common: a body's contacts
+            if (mine.empty() || mine.back() != zoneOf[n]) mine.push_back(zoneOf[n]);
+        std::sort(mine.begin(), mine.end());
+        mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+    });
+    std::vector<uint32_t>& zones = out.zones;
+    zones.clear();
+    for (size_t c = 0; c < chunks; ++c) zones.insert(zones.end(), seen[c].begin(), seen[c].end());
+    std::sort(zones.begin(), zones.end());
+    zones.erase(std::unique(zones.begin(), zones.end()), zones.end());
+    const size_t zoneCount = zones.size();
+    // count[c * zoneCount + z]: chunk c's contacts in zone z, then where they go.
+    std::vector<uint32_t>& count = out.next;
+    count.assign(chunks * zoneCount, 0);
+    workers.forChunks(contacts.size(), kChunk, [&](size_t first, size_t last, int) {
+        uint32_t* mine = count.data() + first / kChunk * zoneCount;
+        for (size_t n = first; n < last; ++n) {
+            zoneOf[n] =
+                uint32_t(std::lower_bound(zones.begin(), zones.end(), zoneOf[n]) - zones.begin());
+            ++mine[zoneOf[n]];
+        }
+    });
+    out.zoneStart.assign(zoneCount + 1, 0);
+    uint32_t at = 0;
+    for (size_t z = 0; z < zoneCount; ++z) {
+        out.zoneStart[z] = at;
+        for (size_t c = 0; c < chunks; ++c) {
+            const uint32_t here = count[c * zoneCount + z];
+            count[c * zoneCount + z] = at;
+            at += here;
+        }
+        if (z == 0 || zones[z] >> 28 != zones[z - 1] >> 28) out.colourStart.push_back(uint32_t(z));
+    }
+    out.zoneStart[zoneCount] = at;
+    out.colourStart.push_back(uint32_t(zoneCount));
+    out.order.resize(contacts.size());
+    workers.forChunks(contacts.size(), kChunk, [&](size_t first, size_t last, int) {
+        uint32_t* next = count.data() + first / kChunk * zoneCount;
+        for (size_t n = first; n < last; ++n) out.order[next[zoneOf[n]]++] = uint32_t(n);
+    });
+    // Within each colour, its zones by decreasing size (ties by index).
+    out.bySize.resize(zoneCount);
+    for (size_t c = 0; c + 1 < out.colourStart.size(); ++c) {
+        const auto first = out.bySize.begin() + out.colourStart[c];
+        const auto last = out.bySize.begin() + out.colourStart[c + 1];
+        std::iota(first, last, out.colourStart[c]);
+        std::sort(first, last, [&](uint32_t a, uint32_t b) {
+            const uint32_t sa = out.zoneStart[a + 1] - out.zoneStart[a];
+            const uint32_t sb = out.zoneStart[b + 1] - out.zoneStart[b];
+            return sa > sb || (sa == sb && a < b);
+        });
+    }
+}
+
 void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
-                        std::span<const uint32_t> particleCount, std::vector<RigidState>& states) {
-    for (size_t b = 0; b < states.size(); ++b) {
-        RigidState& s = states[b];
+                        std::span<const uint32_t> particleCount, std::span<RigidState> states,
+                        size_t firstBody) {
+    for (size_t j = 0; j < states.size(); ++j) {
+        RigidState& s = states[j];
+        const size_t b = firstBody + j;
         if (!s.active) continue;
         s.firstParticle = firstParticle[b];
         s.particleCount = particleCount[b];
@@ -85,9 +234,13 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
                      std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
-                     float maxSeparationSpeed, int iterations, std::vector<uint32_t>& impacts) {
+                     float maxSeparationSpeed, int iterations, SolverScratch& scratch,
+                     Workers& workers) {
+    const SolverSchedule& schedule = scratch.schedule;
+    std::vector<uint32_t>& impacts = scratch.impacts;
+    std::vector<uint32_t>& impactEnd = scratch.impactEnd; // per zone, as the schedule's
     states.assign(firstParticle.size(), RigidState{});
-    impacts.clear();
+
     // Impacts only, ramped in smoothly: a resting contact (approaching at about g dt) is left to
     // the particle level, where a partial rigid target that many contacts share could not be
     // met by one rigid motion and would leave a spurious rotation behind; a hard threshold
@@ -97,28 +250,37 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
             std::clamp((-c.approachSpeed - impactThreshold) / (3.0f * impactThreshold), 0.0f, 1.0f);
         return c.rigidity * ramp;
     };
-    for (size_t k = 0; k < contacts.size(); ++k) {
+    // Every contact's approach (the velocity pass reads it too), and the impacts kept.
+    selectInZones(schedule, workers, impacts, impactEnd, [&](uint32_t k) {
         Contact& c = contacts[k];
         const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
         // read as an impact, it would be turned into rigid motion (pipeline.cpp, push-out).
-        if (c.pushedOut || !(rigidityOf(c) > 0)) continue;
-        impacts.push_back(uint32_t(k));
-        states[c.bodyA].active = true;
-        if (c.hasB) states[c.bodyB].active = true;
-    }
-    if (impacts.empty()) return; // at rest: nothing for the rigid modes to do
+        return !c.pushedOut && rigidityOf(c) > 0;
+    });
+    bool any = false;
+    for (size_t z = 0; z < schedule.zoneCount(); ++z)
+        for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) {
+            const Contact& c = contacts[impacts[j]];
+            states[c.bodyA].active = true;
+            if (c.hasB) states[c.bodyB].active = true;
+            any = true;
+        }
+    if (!any) return; // at rest: nothing for the rigid modes to do
     const bool bounded = maxSeparationSpeed > 0;
     // The rigid velocities serve only the separation bound.
-    prepareRigidStates(x, bounded ? std::span<const Vec3>(v) : std::span<const Vec3>{}, invMass,
-                       firstParticle, particleCount, states);
+    workers.forRange(states.size(), [&](size_t first, size_t last, int) {
+        prepareRigidStates(x, bounded ? std::span<const Vec3>(v) : std::span<const Vec3>{}, invMass,
+                           firstParticle, particleCount,
+                           std::span(states).subspan(first, last - first), first);
+    });
     // What does not change over the iterations, once per impact (points[j] for impacts[j]): the
     // arms' angular directions, the effective mass and the target normal velocity.
     const float invDt = 1.0f / dt;
     points.resize(impacts.size());
-    for (size_t j = 0; j < impacts.size(); ++j) {
+    auto prepare = [&](uint32_t j) {
         const Contact& c = contacts[impacts[j]];
         RigidPoint& p = points[j];
         p.rigidity = rigidityOf(c);
@@ -166,9 +328,17 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
             }
             p.target = minNum(p.target, c.approachSpeed + (allowed + maxSeparationSpeed - base));
         }
-    }
-    for (int it = 0; it < iterations; ++it)
-        for (size_t j = 0; j < impacts.size(); ++j) {
+    };
+    // Every zone's impacts at once (their points are their own).
+    auto inEveryZone = [&](auto&& fn) {
+        workers.forChunks(schedule.zoneCount(), 4, [&](size_t first, size_t last, int) {
+            for (size_t z = first; z < last; ++z)
+                for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) fn(j);
+        });
+    };
+    inEveryZone(prepare);
+    auto sweep = [&](uint32_t z) {
+        for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) {
             const Contact& c = contacts[impacts[j]];
             RigidPoint& p = points[j];
             if (p.invK == 0) continue;
@@ -188,22 +358,26 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                 B->dw -= p.turnB * d;
             }
         }
-    for (size_t j = 0; j < impacts.size(); ++j)
-        contacts[impacts[j]].rigidImpulse = points[j].normalImpulse;
-    for (RigidState& s : states) {
-        if (!s.active) continue;
-        for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
-            v[i] += s.dv + cross(s.dw, x[i] - s.centre);
-        s.dv = s.dw = {};
-    }
+    };
+    for (int it = 0; it < iterations; ++it) forEachZone(schedule, impactEnd, workers, sweep);
+    inEveryZone([&](uint32_t j) { contacts[impacts[j]].rigidImpulse = points[j].normalImpulse; });
+    workers.forRange(states.size(), [&](size_t first, size_t last, int) {
+        for (size_t b = first; b < last; ++b) {
+            RigidState& s = states[b];
+            if (!s.active) continue;
+            for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
+                v[i] += s.dv + cross(s.dw, x[i] - s.centre);
+            s.dv = s.dw = {};
+        }
+    });
 }
 
 void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
                            std::span<const float> invMass, float dt, int iterations,
-                           size_t bodyCount, SolverScratch& scratch) {
+                           size_t bodyCount, SolverScratch& scratch, Workers& workers) {
+    const SolverSchedule& schedule = scratch.schedule;
     const float invDt = 1.0f / dt;
     const bool follow = !v.empty();
-    for (Contact& c : contacts) c.positionImpulse = 0;
     auto sweep = [&](Contact& c) {
         const float C = separation(c, x) - c.tolerated;
         const float W = c.invMassA + c.invMassB;
@@ -229,35 +403,38 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
     std::vector<float>& depth = scratch.bodyReach;
     separation.resize(contacts.size());
     depth.assign(bodyCount, 0.0f);
+    scratch.zoneDeepest.assign(schedule.zoneCount(), 0.0f);
+    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
+        float deepest = 0;
+        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+            const uint32_t n = schedule.order[m];
+            Contact& c = contacts[n];
+            c.positionImpulse = 0;
+            const float C = sweep(c);
+            separation[n] = C;
+            if (C >= 0) continue;
+            deepest = maxNum(deepest, -C);
+            depth[c.bodyA] = maxNum(depth[c.bodyA], -C);
+            if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
+        }
+        scratch.zoneDeepest[z] = deepest;
+    });
     float deepest = 0;
-    for (size_t n = 0; n < contacts.size(); ++n) {
-        Contact& c = contacts[n];
-        const float C = sweep(c);
-        separation[n] = C;
-        if (C >= 0) continue;
-        deepest = maxNum(deepest, -C);
-        depth[c.bodyA] = maxNum(depth[c.bodyA], -C);
-        if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
-    }
+    for (const float d : scratch.zoneDeepest) deepest = maxNum(deepest, d);
     if (iterations <= 1 || deepest <= 0) return;
-    selectReachable(contacts, scratch);
+    selectReachable(contacts, scratch, workers);
     for (int it = 1; it < iterations; ++it)
-        for (uint32_t n : scratch.active) sweep(contacts[n]);
+        forEachZone(schedule, scratch.activeEnd, workers, [&](uint32_t z) {
+            for (uint32_t m = schedule.zoneStart[z]; m < scratch.activeEnd[z]; ++m)
+                sweep(contacts[scratch.active[m]]);
+        });
 }
 
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
                              std::span<Vec3> v, std::span<const float> invMass, float dt,
                              float bounceThreshold, int iterations, size_t bodyCount,
-                             SolverScratch& scratch) {
-    // The positions are final here: the gaps, and the deepest violation left, once.
-    float deepest = 0;
-    for (Contact& c : contacts) {
-        c.normalImpulse = 0;
-        c.tangentImpulse = {};
-        const float C = separation(c, x);
-        c.gap = maxNum(C, 0.0f);
-        deepest = maxNum(deepest, -C);
-    }
+                             SolverScratch& scratch, Workers& workers) {
+    const SolverSchedule& schedule = scratch.schedule;
     const float invDt = 1.0f / dt;
     // One sweep step for contact c; returns its slack: how much faster its points would have to
     // approach before it acted (-infinity when it acts: an impulse, or a friction budget).
@@ -304,12 +481,33 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     // speculative, apart and not approaching.
     std::vector<float>& slack = scratch.slack;
     slack.resize(contacts.size());
-    for (size_t n = 0; n < contacts.size(); ++n) slack[n] = sweep(contacts[n]);
+    // The first sweep visits every contact once: the positions are final here, so its gap, and
+    // the deepest violation left, are found then.
+    std::vector<float>& zoneDeepest = scratch.zoneDeepest;
+    zoneDeepest.assign(schedule.zoneCount(), 0.0f);
+    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
+        float d = 0;
+        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+            Contact& c = contacts[schedule.order[m]];
+            c.normalImpulse = 0;
+            c.tangentImpulse = {};
+            const float C = separation(c, x);
+            c.gap = maxNum(C, 0.0f);
+            d = maxNum(d, -C);
+            slack[schedule.order[m]] = sweep(c);
+        }
+        zoneDeepest[z] = d;
+    });
+    float deepest = 0;
+    for (const float d : zoneDeepest) deepest = maxNum(deepest, d);
     if (iterations <= 1) return deepest;
-    selectReachable(contacts, scratch);
+    selectReachable(contacts, scratch, workers);
     firstSweep = false;
     for (int it = 1; it < iterations; ++it)
-        for (uint32_t n : scratch.active) sweep(contacts[n]);
+        forEachZone(schedule, scratch.activeEnd, workers, [&](uint32_t z) {
+            for (uint32_t m = schedule.zoneStart[z]; m < scratch.activeEnd[z]; ++m)
+                sweep(contacts[scratch.active[m]]);
+        });
     return deepest;
 }
 

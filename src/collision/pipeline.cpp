@@ -133,18 +133,110 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec
     return c;
 }
 
+// Tests the box pairs `keys` (sorted), each once: its manifold's points become contacts, and
+// what the pair may claim (from the last substep's claims) a claim, appended to `contacts` and
+// `claims`.
+void emitPairs(const WorldData& w, std::span<const uint64_t> keys, std::vector<Contact>& contacts,
+               std::vector<BoxPairClaim>& claims) {
+    const CollisionState& s = w.collision;
+    if (keys.empty()) return;
+    // Into the last substep's claims, sorted like keys.
+    size_t last =
+        size_t(std::lower_bound(s.claims.begin(), s.claims.end(), keys.front(),
+                                [](const BoxPairClaim& c, uint64_t k) { return c.key < k; }) -
+               s.claims.begin());
+    for (const uint64_t key : keys) {
+        const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
+        uint32_t body[2];
+        BoxView view[2];
+        for (int k = 0; k < 2; ++k) {
+            body[k] = s.boxBody[box[k]];
+            const BodyRecord& r = w.bodies[body[k]];
+            const CellBox& cb = r.model->lattice.boxes[box[k] - r.firstBox];
+            view[k].nodes = &w.nodes[size_t(box[k]) * 8];
+            for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
+            view[k].planes = &s.planes[box[k]];
+            view[k].outsideFaces = cb.outsideFaces;
+        }
+        const BodyRecord& P = w.bodies[body[0]];
+        const BodyRecord& Q = w.bodies[body[1]];
+        const float margin = maxNum(marginOf(w, P, Q), marginOf(w, Q, P));
+        const float tolerance = kReferenceTolerance * minNum(s.skin[body[0]], s.skin[body[1]]);
+        const BoxPairManifold m = boxPairManifold(view[0], view[1], margin, tolerance);
+        if (m.reference < 0) continue;
+        const int ref = m.reference, inc = 1 - m.reference;
+        const size_t first = contacts.size();
+        float deepest = 0, closing = 0;
+        for (int k = 0; k < m.count; ++k) {
+            const ManifoldPoint& pt = m.point[k];
+            Contact c = makeObjectContact(w, body[inc], box[inc], pt.local, body[ref], box[ref],
+                                          m.normal, pt.distance,
+                                          pt.position - m.normal * pt.distance, *view[ref].planes);
+            c.nodeA = box[inc] * 8 + uint32_t(k);
+            deepest = maxNum(deepest, -pt.distance);
+            closing = maxNum(closing, -dot(blend(c.a, w.v) - blend(c.b, w.v), c.normal));
+            contacts.push_back(c);
+        }
+        // What the pair may claim: all its overlap, unless its boxes overlap least across
+        // a face into a neighbouring cell; then that overlap, or what it claimed in the last
+        // substep plus how much deeper its deepest point has got since, whichever is more.
+        // A box grazing such a face can lie a cell deep along the normal: claimed at once,
+        // that depth threw resting letters into the air, while a pair that deepens under a
+        // load keeps up with it (docs/ALGORITHM.md, section 5). The deepening counts only as
+        // far as the bodies close at the pair's points in a substep: the manifold's depth
+        // jumps when its reference face or its points change (a pair at rest found 8 cm
+        // deeper from one substep to the next), and claimed, such a jump is the same throw.
+        while (last < s.claims.size() && s.claims[last].key < key) ++last;
+        const BoxPairClaim* before =
+            last < s.claims.size() && s.claims[last].key == key ? &s.claims[last] : nullptr;
+        const float deepened =
+            minNum(maxNum(0.0f, deepest - (before ? before->deepest : 0.0f)), closing * w.substep);
+        const float grown = before ? before->claimed + deepened : 0.0f;
+        const float allowed = m.depthBound < INFINITY ? maxNum(m.depthBound, grown) : INFINITY;
+        claims.push_back({key, minNum(deepest, allowed), deepest});
+        // The rest of each point's overlap is kept for later substeps.
+        for (size_t n = first; n < contacts.size(); ++n)
+            contacts[n].tolerated =
+                minNum(contacts[n].tolerated, minNum(0.0f, contacts[n].distance + allowed));
+    }
+}
+
 // Canonical order whatever found them: sorts small (key, index) pairs, then moves each contact
 // once, rather than shuffling the large contacts themselves. Node-major (contactKey): ordering
 // the Gauss-Seidel sweeps box by box instead left the paper's piles measurably more entangled
-// (docs/ALGORITHM.md).
-void sortContacts(std::vector<Contact>& contacts, std::vector<std::pair<uint64_t, uint32_t>>& keys,
-                  std::vector<Contact>& scratch) {
-    keys.resize(contacts.size());
-    for (uint32_t i = 0; i < contacts.size(); ++i) keys[i] = {contactKey(contacts[i]), i};
-    std::sort(keys.begin(), keys.end());
-    scratch.resize(contacts.size());
-    for (size_t i = 0; i < keys.size(); ++i) scratch[i] = contacts[keys[i].second];
-    contacts.swap(scratch);
+// (docs/ALGORITHM.md). The contacts of `sources` (each one thread's, or `out` itself) land in
+// `out` sorted. The keys are unique, so any split of the sort gives the same order: one piece
+// per thread, each sorted on its own, then merged.
+void sortContacts(std::span<const std::span<const Contact>> sources, std::vector<Contact>& out,
+                  CollisionState& s, Workers& workers) {
+    std::vector<const Contact*>& from = s.sortSources;
+    std::vector<size_t> at(sources.size() + 1, 0);
+    for (size_t k = 0; k < sources.size(); ++k) at[k + 1] = at[k] + sources[k].size();
+    const size_t n = at.back();
+    from.resize(n);
+    std::vector<std::pair<uint64_t, uint32_t>>& keys = s.sortKeys;
+    keys.resize(n);
+    workers.forChunks(sources.size(), 1, [&](size_t k, size_t, int) {
+        for (size_t i = 0; i < sources[k].size(); ++i) {
+            const Contact& c = sources[k][i];
+            from[at[k] + i] = &c;
+            keys[at[k] + i] = {contactKey(c), uint32_t(at[k] + i)};
+        }
+    });
+    const size_t pieces = size_t(workers.count());
+    const size_t piece = std::max<size_t>((n + pieces - 1) / pieces, 1);
+    workers.forChunks(n, piece, [&](size_t first, size_t last, int) {
+        std::sort(keys.begin() + ptrdiff_t(first), keys.begin() + ptrdiff_t(last));
+    });
+    for (size_t middle = piece; middle < n; middle += piece)
+        std::inplace_merge(keys.begin(), keys.begin() + ptrdiff_t(middle),
+                           keys.begin() + ptrdiff_t(std::min(n, middle + piece)));
+    std::vector<Contact>& sorted = s.sortScratch;
+    sorted.resize(n);
+    workers.forRange(n, [&](size_t first, size_t last, int) {
+        for (size_t i = first; i < last; ++i) sorted[i] = *from[keys[i].second];
+    });
+    out.swap(sorted);
 }
 
 bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
@@ -261,13 +353,23 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     }
     std::sort(order.begin(), order.end(),
               [&](uint32_t a, uint32_t b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
-    for (uint32_t k = 0; k < n; ++k) {
-        const uint32_t i = order[k];
-        for (uint32_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
-            const uint32_t j = order[m];
-            if (spheresOverlap(w, i, j)) out.push_back({std::min(i, j), std::max(i, j)});
+    // The sweep in chunks of the sorted order on the threads, each chunk's pairs on their own.
+    constexpr uint32_t kPerChunk = 64;
+    const size_t chunks = (n + kPerChunk - 1) / kPerChunk;
+    std::vector<std::vector<CandidatePair>>& found = w.collision.sweepChunks;
+    if (found.size() < chunks) found.resize(chunks);
+    w.workers.forChunks(n, kPerChunk, [&](size_t first, size_t last, int) {
+        std::vector<CandidatePair>& pairs = found[first / kPerChunk];
+        pairs.clear();
+        for (size_t k = first; k < last; ++k) {
+            const uint32_t i = order[k];
+            for (size_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
+                const uint32_t j = order[m];
+                if (spheresOverlap(w, i, j)) pairs.push_back({std::min(i, j), std::max(i, j)});
+            }
         }
-    }
+    });
+    for (size_t c = 0; c < chunks; ++c) out.insert(out.end(), found[c].begin(), found[c].end());
     std::sort(out.begin(), out.end(), [](const CandidatePair& a, const CandidatePair& b) {
         return a.a < b.a || (a.a == b.a && a.b < b.b);
     });
@@ -275,17 +377,20 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
 
 void computeSpheres(WorldData& w) {
     // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
-    for (BodyRecord& r : w.bodies) {
-        const Vec3 c = r.bounds.centre();
-        float r2 = 0;
-        for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
-            const Aabb& b = w.boxBounds[k];
-            const Vec3 d = max(b.hi - c, c - b.lo);
-            r2 = maxNum(r2, lengthSquared(d));
+    w.workers.forRange(w.bodies.size(), [&](size_t first, size_t last, int) {
+        for (size_t i = first; i < last; ++i) {
+            BodyRecord& r = w.bodies[i];
+            const Vec3 c = r.bounds.centre();
+            float r2 = 0;
+            for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
+                const Aabb& b = w.boxBounds[k];
+                const Vec3 d = max(b.hi - c, c - b.lo);
+                r2 = maxNum(r2, lengthSquared(d));
+            }
+            r.sphereCentre = c;
+            r.sphereRadius = std::sqrt(r2);
         }
-        r.sphereCentre = c;
-        r.sphereRadius = std::sqrt(r2);
-    }
+    });
 }
 
 void sphereTest(WorldData& w) {
@@ -320,6 +425,8 @@ void findFloorContacts(WorldData& w) {
     s.all.resize(s.objectCount);
     w.profile.floorContacts = 0;
     if (!w.settings.floor) return;
+    // On one thread: the contacts are few per body and cheap to make, and on several threads
+    // their copies into place cost more than making them (measured on alphabets).
     const float floorY = w.settings.floorHeight;
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
@@ -375,81 +482,84 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         s.reach[b] = reachOf(w, w.bodies[b]);
         s.skin[b] = skinOf(w, w.bodies[b]);
     }
-    s.boxPairKeys.clear();
-    auto planesOf = [&](uint32_t box) -> const BoxPlanes& {
-        if (s.planeStamp[box] != s.stamp) {
-            s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
-            s.planeStamp[box] = s.stamp;
-        }
-        return s.planes[box];
-    };
+    const size_t slots = size_t(w.workers.count());
+    if (s.queryScratch.size() < slots) s.queryScratch.resize(slots);
+    for (size_t k = 0; k < slots; ++k) {
+        CollisionState::QueryScratch& q = s.queryScratch[k];
+        q.partnerMark.assign(n, 0);
+        q.partnerMargin.resize(n);
+        q.keys.clear();
+        q.potential = 0;
+    }
     // The box pairs found (a node of one within the other's node bounds grown by the pair's
-    // margin), each tested once as a pair: its manifold's points become contacts.
+    // margin), each tested once as a pair: its manifold's points become contacts. The pairs
+    // come from the threads' queries in any order; sorted, they are the same for any thread
+    // count, and so are the chunks of consecutive pairs tested on the threads.
     auto emitBoxPairs = [&] {
+        // Each thread's pairs sorted on its own, then merged.
+        w.workers.forChunks(slots, 1, [&](size_t k, size_t, int) {
+            std::vector<uint64_t>& q = s.queryScratch[k].keys;
+            std::sort(q.begin(), q.end());
+            q.erase(std::unique(q.begin(), q.end()), q.end());
+        });
         std::vector<uint64_t>& keys = s.boxPairKeys;
-        std::sort(keys.begin(), keys.end());
+        keys.clear();
+        for (size_t k = 0; k < slots; ++k) {
+            const CollisionState::QueryScratch& q = s.queryScratch[k];
+            const size_t middle = keys.size();
+            keys.insert(keys.end(), q.keys.begin(), q.keys.end());
+            std::inplace_merge(keys.begin(), keys.begin() + ptrdiff_t(middle), keys.end());
+            outPotential += q.potential;
+        }
         keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-        size_t last = 0; // into the last substep's claims, sorted like keys
-        for (const uint64_t key : keys) {
-            const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
-            uint32_t body[2];
-            BoxView view[2];
-            for (int k = 0; k < 2; ++k) {
-                body[k] = s.boxBody[box[k]];
-                const BodyRecord& r = w.bodies[body[k]];
-                const CellBox& cb = r.model->lattice.boxes[box[k] - r.firstBox];
-                view[k].nodes = &w.nodes[size_t(box[k]) * 8];
-                for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
-                view[k].planes = &planesOf(box[k]);
-                view[k].outsideFaces = cb.outsideFaces;
+        // The planes of every box in a pair, each built once.
+        s.planeBoxes.clear();
+        for (const uint64_t key : keys)
+            for (const uint32_t box : {uint32_t(key >> 32), uint32_t(key)})
+                if (s.planeStamp[box] != s.stamp) {
+                    s.planeStamp[box] = s.stamp;
+                    s.planeBoxes.push_back(box);
+                }
+        w.workers.forRange(s.planeBoxes.size(), [&](size_t first, size_t last, int) {
+            for (size_t i = first; i < last; ++i) {
+                const uint32_t box = s.planeBoxes[i];
+                s.planes[box] = boxPlanes(&w.nodes[size_t(box) * 8]);
             }
-            const BodyRecord& P = w.bodies[body[0]];
-            const BodyRecord& Q = w.bodies[body[1]];
-            const float margin = maxNum(marginOf(w, P, Q), marginOf(w, Q, P));
-            const float tolerance = kReferenceTolerance * minNum(s.skin[body[0]], s.skin[body[1]]);
-            const BoxPairManifold m = boxPairManifold(view[0], view[1], margin, tolerance);
-            if (m.reference < 0) continue;
-            const int ref = m.reference, inc = 1 - m.reference;
-            // What the pair may claim: all its overlap, unless its boxes overlap least across
-            // a face into a neighbouring cell; then that overlap, or what it claimed in the last
-            // substep plus how much deeper its deepest point has got since, whichever is more.
-            // A box grazing such a face can lie a cell deep along the normal: claimed at once,
-            // that depth threw resting letters into the air, while a pair that deepens under a
-            // load keeps up with it (docs/ALGORITHM.md, section 5).
-            float deepest = 0;
-            for (int k = 0; k < m.count; ++k) deepest = maxNum(deepest, -m.point[k].distance);
-            while (last < s.claims.size() && s.claims[last].key < key) ++last;
-            const BoxPairClaim* before =
-                last < s.claims.size() && s.claims[last].key == key ? &s.claims[last] : nullptr;
-            const float grown =
-                before ? before->claimed + maxNum(0.0f, deepest - before->deepest) : 0.0f;
-            const float allowed = m.depthBound < INFINITY ? maxNum(m.depthBound, grown) : INFINITY;
-            s.nextClaims.push_back({key, minNum(deepest, allowed), deepest});
-            for (int k = 0; k < m.count; ++k) {
-                const ManifoldPoint& pt = m.point[k];
-                Contact c = makeObjectContact(
-                    w, body[inc], box[inc], pt.local, body[ref], box[ref], m.normal, pt.distance,
-                    pt.position - m.normal * pt.distance, *view[ref].planes);
-                c.nodeA = box[inc] * 8 + uint32_t(k);
-                // The rest of the point's overlap is kept for later substeps.
-                c.tolerated = minNum(c.tolerated, minNum(0.0f, pt.distance + allowed));
-                out.push_back(c);
-            }
+        });
+        s.sortSpans.clear();
+        if (slots == 1) { // in place
+            emitPairs(w, keys, out, s.nextClaims);
+            s.sortSpans.push_back(out);
+            return;
+        }
+        constexpr size_t kPairsPerChunk = 32;
+        const size_t chunks = (keys.size() + kPairsPerChunk - 1) / kPairsPerChunk;
+        if (s.pairChunks.size() < chunks) s.pairChunks.resize(chunks);
+        w.workers.forChunks(keys.size(), kPairsPerChunk, [&](size_t first, size_t end, int) {
+            CollisionState::PairChunk& chunk = s.pairChunks[first / kPairsPerChunk];
+            chunk.contacts.clear();
+            chunk.claims.clear();
+            emitPairs(w, std::span(keys).subspan(first, end - first), chunk.contacts, chunk.claims);
+        });
+        for (size_t c = 0; c < chunks; ++c) {
+            const CollisionState::PairChunk& chunk = s.pairChunks[c];
+            s.sortSpans.push_back(chunk.contacts);
+            s.nextClaims.insert(s.nextClaims.end(), chunk.claims.begin(), chunk.claims.end());
         }
     };
     // Node `node` of body A at p, whose cube of A's reach meets box `box` of body B grown by
     // B's skin and reach (SpatialHash::cubeMeets: the one test every mode applies before
     // this): when it lies within the box's node bounds grown by the pair's margin
     // (marginOf(A, B)), the box pair of its own box and `box` is one to test (emitBoxPairs).
-    auto testBox = [&](uint32_t bodyB, uint32_t box, uint32_t bodyA, uint32_t node, Vec3 p,
-                       float margin) {
+    auto testBox = [&](CollisionState::QueryScratch& q, uint32_t bodyB, uint32_t box,
+                       uint32_t bodyA, uint32_t node, Vec3 p, float margin) {
         if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
-        ++outPotential;
+        ++q.potential;
         if (!w.boxBounds[box].contains(p, margin)) return;
         const uint32_t own = node / 8;
         const uint64_t key = own < box ? (uint64_t(own) << 32 | box) : (uint64_t(box) << 32 | own);
         // A box's nodes come in order from each hash cell: most repeats are the last key.
-        if (s.boxPairKeys.empty() || s.boxPairKeys.back() != key) s.boxPairKeys.push_back(key);
+        if (q.keys.empty() || q.keys.back() != key) q.keys.push_back(key);
     };
     auto grow = [](const Aabb& a, float r) {
         return Aabb{a.lo - Vec3{r, r, r}, a.hi + Vec3{r, r, r}};
@@ -467,12 +577,12 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
                     for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
                          ++node)
                         if (SpatialHash::cubeMeets(w.nodes[node], s.reach[a], grown))
-                            testBox(b, box, a, node, w.nodes[node], margin);
+                            testBox(s.queryScratch[0], b, box, a, node, w.nodes[node], margin);
                 }
             }
         }
         emitBoxPairs();
-        sortContacts(out, s.sortKeys, s.sortScratch);
+        sortContacts(s.sortSpans, out, s, w.workers);
         return;
     }
 
@@ -510,105 +620,124 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         unions(s.reachBounds, s.prefixBounds, s.suffixBounds);
         unions(s.queryBounds, s.prefixQueryBounds, s.suffixQueryBounds);
     }
-    s.partnerMark.assign(n, 0);
-    s.partnerMargin.resize(n);
     constexpr uint32_t kIndividual = 8; // partners' bounds tested one by one up to this many
-    // Body b's partners: their reach and query bounds, one by one or as unions.
-    bool individual = true;
-    Aabb reachUnion, queryUnion;
-    auto gatherPartners = [&](uint32_t b) {
-        s.partnerBounds.clear();
-        s.partnerQueryBounds.clear();
+    // Body b's partners: their reach and query bounds, one by one or as unions (into the
+    // thread's scratch).
+    auto gatherPartners = [&](uint32_t b, CollisionState::QueryScratch& q) {
+        q.partnerBounds.clear();
+        q.partnerQueryBounds.clear();
         if (enhanced) {
             for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
-                s.partnerBounds.push_back(s.reachBounds[s.partners[k]]);
-                s.partnerQueryBounds.push_back(s.queryBounds[s.partners[k]]);
+                q.partnerBounds.push_back(s.reachBounds[s.partners[k]]);
+                q.partnerQueryBounds.push_back(s.queryBounds[s.partners[k]]);
             }
-            individual = s.partnerBounds.size() <= kIndividual;
+            q.individual = q.partnerBounds.size() <= kIndividual;
         } else {
-            individual = n - 1 <= kIndividual;
-            for (uint32_t a = 0; individual && a < n; ++a)
+            q.individual = n - 1 <= kIndividual;
+            for (uint32_t a = 0; q.individual && a < n; ++a)
                 if (a != b) {
-                    s.partnerBounds.push_back(s.reachBounds[a]);
-                    s.partnerQueryBounds.push_back(s.queryBounds[a]);
+                    q.partnerBounds.push_back(s.reachBounds[a]);
+                    q.partnerQueryBounds.push_back(s.queryBounds[a]);
                 }
         }
-        reachUnion = queryUnion = Aabb{};
-        if (individual) return;
+        q.reachUnion = q.queryUnion = Aabb{};
+        if (q.individual) return;
         if (enhanced) {
-            for (const Aabb& a : s.partnerBounds) reachUnion.add(a);
-            for (const Aabb& a : s.partnerQueryBounds) queryUnion.add(a);
+            for (const Aabb& a : q.partnerBounds) q.reachUnion.add(a);
+            for (const Aabb& a : q.partnerQueryBounds) q.queryUnion.add(a);
         } else {
-            reachUnion = s.prefixBounds[b], reachUnion.add(s.suffixBounds[b + 1]);
-            queryUnion = s.prefixQueryBounds[b], queryUnion.add(s.suffixQueryBounds[b + 1]);
+            q.reachUnion = s.prefixBounds[b], q.reachUnion.add(s.suffixBounds[b + 1]);
+            q.queryUnion = s.prefixQueryBounds[b], q.queryUnion.add(s.suffixQueryBounds[b + 1]);
         }
     };
-    auto near = [&](const Aabb& grown, const std::vector<Aabb>& each, const Aabb& all) {
-        if (!individual) return grown.overlaps(all);
+    auto near = [&](const CollisionState::QueryScratch& q, const Aabb& grown,
+                    const std::vector<Aabb>& each, const Aabb& all) {
+        if (!q.individual) return grown.overlaps(all);
         for (const Aabb& a : each)
             if (grown.overlaps(a)) return true;
         return false;
     };
     constexpr uint8_t kQuery = 1, kHash = 2;
     s.boxFlags.resize(w.boxBounds.size());
+    s.hashedNodes.assign(n, 0);
+    w.workers.forRange(n, [&](size_t firstBody, size_t lastBody, int slot) {
+        CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
+        for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
+            if (!isCandidate(b)) continue;
+            const BodyRecord& B = w.bodies[b];
+            gatherPartners(b, q);
+            for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
+                const Aabb& bb = w.boxBounds[box];
+                // Queried when its query bounds meet a partner's nodes' cubes; hashed when its
+                // nodes' cubes meet a partner's query bounds.
+                const bool query =
+                    near(q, grow(bb, s.skin[b] + s.reach[b]), q.partnerBounds, q.reachUnion);
+                const bool hash = near(q, grow(bb, s.reach[b]), q.partnerQueryBounds, q.queryUnion);
+                s.boxFlags[box] = uint8_t((query ? kQuery : 0) | (hash ? kHash : 0));
+                if (hash) s.hashedNodes[b] += 8;
+            }
+        }
+    });
     size_t nodeCount = 0;
     float cell = 0;
-    for (uint32_t b = 0; b < n; ++b) {
-        if (!isCandidate(b)) continue;
-        const BodyRecord& B = w.bodies[b];
-        cell = maxNum(cell, B.cellSize);
-        gatherPartners(b);
-        for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
-            const Aabb& bb = w.boxBounds[box];
-            // Queried when its query bounds meet a partner's nodes' cubes; hashed when its
-            // nodes' cubes meet a partner's query bounds.
-            const bool query = near(grow(bb, s.skin[b] + s.reach[b]), s.partnerBounds, reachUnion);
-            const bool hash = near(grow(bb, s.reach[b]), s.partnerQueryBounds, queryUnion);
-            s.boxFlags[box] = uint8_t((query ? kQuery : 0) | (hash ? kHash : 0));
-            if (hash) nodeCount += 8;
-        }
-    }
+    for (uint32_t b = 0; b < n; ++b)
+        if (isCandidate(b))
+            nodeCount += s.hashedNodes[b], cell = maxNum(cell, w.bodies[b].cellSize);
     if (nodeCount == 0) return;
     s.hash.begin(nodeCount, cell, s.reach, kReachAllowance * cell);
-    for (uint32_t b = 0; b < n; ++b) {
-        if (!isCandidate(b)) continue;
-        const BodyRecord& r = w.bodies[b];
-        for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
-            if (s.boxFlags[box] & kHash)
-                for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
-                    // The position too: no random reads later.
-                    s.hash.add(node, b, w.nodes[node]);
-    }
+    // The hashed boxes' nodes staged in batches of bodies on the threads, added in body order.
+    constexpr size_t kBodiesPerBatch = 16;
+    const size_t batches = (n + kBodiesPerBatch - 1) / kBodiesPerBatch;
+    if (s.hashBatches.size() < batches) s.hashBatches.resize(batches);
+    w.workers.forChunks(n, kBodiesPerBatch, [&](size_t firstBody, size_t lastBody, int) {
+        SpatialHash::Batch& batch = s.hashBatches[firstBody / kBodiesPerBatch];
+        batch.staged.clear();
+        batch.wide.clear();
+        for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
+            if (!isCandidate(b)) continue;
+            const BodyRecord& r = w.bodies[b];
+            for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
+                if (s.boxFlags[box] & kHash)
+                    for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
+                        // The position too: no random reads later.
+                        s.hash.add(batch, node, b, w.nodes[node]);
+        }
+    });
+    s.hash.addBatches(std::span(s.hashBatches).first(batches), w.workers);
     s.hash.reserveTable(s.hash.stagedCount()); // nodes of fast bodies lie in several cells
-    s.hash.build();
-    for (uint32_t b = 0; b < n; ++b) {
-        if (!isCandidate(b)) continue;
-        const BodyRecord& B = w.bodies[b];
-        // Each partner's margin against b's boxes (every other object's for `previous`).
-        if (enhanced) {
-            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
-                const uint32_t a = s.partners[k];
-                s.partnerMark[a] = 1;
-                s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+    s.hash.build(&w.workers);
+    // Each object's boxes query the table on the world's threads (the table is read only).
+    w.workers.forRange(n, [&](size_t firstBody, size_t lastBody, int slot) {
+        CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
+        for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
+            if (!isCandidate(b)) continue;
+            const BodyRecord& B = w.bodies[b];
+            // Each partner's margin against b's boxes (every other object's for `previous`).
+            if (enhanced) {
+                for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
+                    const uint32_t a = s.partners[k];
+                    q.partnerMark[a] = 1;
+                    q.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+                }
+            } else {
+                for (uint32_t a = 0; a < n; ++a)
+                    if (a != b) q.partnerMargin[a] = marginOf(w, w.bodies[a], B);
             }
-        } else {
-            for (uint32_t a = 0; a < n; ++a)
-                if (a != b) s.partnerMargin[a] = marginOf(w, w.bodies[a], B);
+            for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
+                if (!(s.boxFlags[box] & kQuery)) continue;
+                const Aabb grown = grow(w.boxBounds[box], s.skin[b] + s.reach[b]);
+                s.hash.forEachNear(grown, b, [&](const SpatialHash::Entry& e) {
+                    if (!enhanced || q.partnerMark[e.owner])
+                        testBox(q, b, box, e.owner, e.item, e.position, q.partnerMargin[e.owner]);
+                });
+            }
+            if (enhanced)
+                for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
+                    q.partnerMark[s.partners[k]] = 0;
         }
-        for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
-            if (!(s.boxFlags[box] & kQuery)) continue;
-            const Aabb grown = grow(w.boxBounds[box], s.skin[b] + s.reach[b]);
-            s.hash.forEachNear(grown, b, [&](const SpatialHash::Entry& e) {
-                if (!enhanced || s.partnerMark[e.owner])
-                    testBox(b, box, e.owner, e.item, e.position, s.partnerMargin[e.owner]);
-            });
-        }
-        if (enhanced)
-            for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k)
-                s.partnerMark[s.partners[k]] = 0;
-    }
+    });
     emitBoxPairs();
-    sortContacts(out, s.sortKeys, s.sortScratch);
+    sortContacts(s.sortSpans, out, s, w.workers);
 }
 
 void findAllObjectContacts(WorldData& w) {
@@ -619,15 +748,46 @@ void findAllObjectContacts(WorldData& w) {
     w.profile.contacts = int(s.objectCount);
 }
 
+namespace {
+
+// The solver's zones (contact.h, buildSolverSchedule): each body's cell on a grid over x and
+// z as wide as the widest body, so that bodies in contact lie in the same or neighbouring
+// cells. It depends on the positions alone, never on the thread count.
+void scheduleContacts(WorldData& w) {
+    CollisionState& s = w.collision;
+    float width = 0;
+    for (const BodyRecord& r : w.bodies) {
+        const Vec3 e = r.bounds.extent();
+        width = maxNum(width, maxNum(e.x, e.z));
+    }
+    if (!(width > 0) || !std::isfinite(width)) width = 1;
+    const float inverse = 1.0f / width;
+    std::vector<ZoneCell>& cells = s.solver.cells;
+    cells.resize(w.bodies.size());
+    for (size_t b = 0; b < w.bodies.size(); ++b) {
+        const Vec3 c = (w.bodies[b].bounds.lo + w.bodies[b].bounds.hi) * (0.5f * inverse);
+        constexpr float kRange = 1 << 29;
+        if (std::abs(c.x) < kRange && std::abs(c.z) < kRange)
+            cells[b] = {int32_t(std::floor(c.x)), int32_t(std::floor(c.z))};
+        else
+            cells[b] = {ZoneCell::kNowhere, ZoneCell::kNowhere};
+    }
+    buildSolverSchedule(s.all, cells, s.solver.schedule, w.workers);
+}
+
+} // namespace
+
 void respondBeforeMove(WorldData& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return;
+    scheduleContacts(w);
     const int iterations = w.settings.solverIterations;
-    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver);
+    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver,
+                          w.workers);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
                     s.bodyParticleCount, dt, impact, w.settings.maxSeparationSpeed, iterations,
-                    s.impacts);
+                    s.solver, w.workers);
 }
 
 float respondAfterMove(WorldData& w, float dt) {
@@ -635,9 +795,10 @@ float respondAfterMove(WorldData& w, float dt) {
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver);
+    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver,
+                          w.workers);
     return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,
-                                  w.bodies.size(), s.solver);
+                                  w.bodies.size(), s.solver, w.workers);
 }
 
 } // namespace ffd::detail

@@ -48,7 +48,20 @@ void SpatialHash::reserveTable(size_t entries) {
     }
 }
 
-void SpatialHash::build() {
+void SpatialHash::addBatches(std::span<const Batch> batches, Workers& workers) {
+    std::vector<size_t> at(batches.size() + 1, staged_.size());
+    for (size_t b = 0; b < batches.size(); ++b) {
+        at[b + 1] = at[b] + batches[b].staged.size();
+        wide_.insert(wide_.end(), batches[b].wide.begin(), batches[b].wide.end());
+    }
+    staged_.resize(at.back());
+    workers.forChunks(batches.size(), 1, [&](size_t b, size_t, int) {
+        std::copy(batches[b].staged.begin(), batches[b].staged.end(),
+                  staged_.begin() + ptrdiff_t(at[b]));
+    });
+}
+
+void SpatialHash::build(Workers* workers) {
     // The wide items' runs of one owner, each with the bounds of its items' cubes.
     wideRuns_.clear();
     for (uint32_t n = 0; n < wide_.size(); ++n) {
@@ -61,35 +74,61 @@ void SpatialHash::build() {
         run.bounds.add(e.position + Vec3{r, r, r});
         run.end = n + 1;
     }
-    // Pass 1: count per bucket; a bucket whose stamp is old is empty (no clearing needed).
-    touched_.clear();
-    slotOf_.resize(staged_.size());
+    // The buckets split in `parts` ranges, one per thread: each part scans every entry and
+    // takes those of its buckets, so a bucket's entries keep their staged order whatever the
+    // split, and no two threads touch one bucket. The layout of the buckets in memory depends on
+    // the split, what each bucket holds does not.
+    const size_t parts = workers ? size_t(workers->count()) : 1;
     bucketOf_.resize(staged_.size());
-    for (size_t n = 0; n < staged_.size(); ++n) {
-        const Entry& e = staged_[n];
-        const uint32_t h = bucket(e.i, e.j, e.k);
-        bucketOf_[n] = h;
-        Bucket& b = buckets_[h];
-        if (b.stamp != stamp_) {
-            b.stamp = stamp_;
-            b.count = 0;
-            b.soleOwner = e.owner;
-            touched_.push_back(h);
-        } else if (b.soleOwner != e.owner) {
-            b.soleOwner = kMixed;
+    slotOf_.resize(staged_.size());
+    touchedBy_.resize(parts);
+    const uint32_t perPart = uint32_t((uint64_t(tableSize_) + parts - 1) / parts);
+    auto forParts = [&](auto&& fn) {
+        if (parts == 1) return fn(size_t(0));
+        workers->forChunks(parts, 1, [&](size_t part, size_t, int) { fn(part); });
+    };
+    forParts([&](size_t part) {
+        const size_t n0 = staged_.size() * part / parts, n1 = staged_.size() * (part + 1) / parts;
+        for (size_t n = n0; n < n1; ++n) {
+            const Entry& e = staged_[n];
+            bucketOf_[n] = bucket(e.i, e.j, e.k);
         }
-        slotOf_[n] = b.count++;
-    }
-    // Offsets over the touched buckets only, in the order they were first touched.
+    });
+    // Pass 1: count per bucket; a bucket whose stamp is old is empty (no clearing needed).
+    forParts([&](size_t part) {
+        const uint32_t h0 = uint32_t(part) * perPart, h1 = h0 + perPart;
+        std::vector<uint32_t>& touched = touchedBy_[part];
+        touched.clear();
+        for (size_t n = 0; n < staged_.size(); ++n) {
+            const uint32_t h = bucketOf_[n];
+            if (h < h0 || h >= h1) continue;
+            const Entry& e = staged_[n];
+            Bucket& b = buckets_[h];
+            if (b.stamp != stamp_) {
+                b.stamp = stamp_;
+                b.count = 0;
+                b.soleOwner = e.owner;
+                touched.push_back(h);
+            } else if (b.soleOwner != e.owner) {
+                b.soleOwner = kMixed;
+            }
+            slotOf_[n] = b.count++;
+        }
+    });
+    // Offsets over the touched buckets only, part by part, in the order first touched.
     uint32_t offset = 0;
-    for (uint32_t h : touched_) {
-        buckets_[h].start = offset;
-        offset += buckets_[h].count;
-    }
-    // Pass 2: place, keeping insertion order within each bucket (deterministic).
+    for (const std::vector<uint32_t>& touched : touchedBy_)
+        for (uint32_t h : touched) {
+            buckets_[h].start = offset;
+            offset += buckets_[h].count;
+        }
+    // Pass 2: place, keeping the staged order within each bucket.
     entries_.resize(staged_.size());
-    for (size_t n = 0; n < staged_.size(); ++n)
-        entries_[buckets_[bucketOf_[n]].start + slotOf_[n]] = staged_[n];
+    forParts([&](size_t part) {
+        const size_t n0 = staged_.size() * part / parts, n1 = staged_.size() * (part + 1) / parts;
+        for (size_t n = n0; n < n1; ++n)
+            entries_[buckets_[bucketOf_[n]].start + slotOf_[n]] = staged_[n];
+    });
 }
 
 } // namespace ffd::detail

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "ffdaabb/math.h"
+#include "util/workers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -66,13 +67,33 @@ public:
     /// fill thousands of cells with each of its nodes).
     static constexpr int64_t kMaxCopies = 27;
 
+    /// Items staged apart (on a thread of their own), then added in order by addBatches.
+    struct Batch {
+        std::vector<Entry> staged, wide;
+    };
+
     /// Stages an item at point p, in each cell its owner's reach less the allowance reaches
     /// (one cell for most; the wide list past kMaxCopies); the table is built by build().
     void add(uint32_t item, uint32_t owner, Vec3 p) {
         if (owner >= reach_.size()) reach_.resize(owner + 1, 0.0f), extent_.resize(owner + 1, 0.0f);
+        stage(staged_, wide_, item, owner, p);
+    }
+
+    /// add() into a batch, for owners that begin() was given the reach of; safe to call on
+    /// several threads, each with its own batch.
+    void add(Batch& batch, uint32_t item, uint32_t owner, Vec3 p) const {
+        stage(batch.staged, batch.wide, item, owner, p);
+    }
+
+    /// Adds the batches' items, batch after batch, as add() would have in that order.
+    void addBatches(std::span<const Batch> batches, Workers& workers);
+
+private:
+    void stage(std::vector<Entry>& staged, std::vector<Entry>& wide, uint32_t item, uint32_t owner,
+               Vec3 p) const {
         const float e = extent_[owner];
         if (e == 0) {
-            staged_.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner, p});
+            staged.push_back({cell(p.x), cell(p.y), cell(p.z), item, owner, p});
             return;
         }
         const int32_t i0 = cell(p.x - e), i1 = cell(p.x + e);
@@ -80,21 +101,24 @@ public:
         const int32_t k0 = cell(p.z - e), k1 = cell(p.z + e);
         if (int64_t(i1 - int64_t(i0) + 1) * (j1 - int64_t(j0) + 1) * (k1 - int64_t(k0) + 1) >
             kMaxCopies) {
-            wide_.push_back({0, 0, 0, item, owner, p});
+            wide.push_back({0, 0, 0, item, owner, p});
             return;
         }
         for (int32_t k = k0; k <= k1; ++k)
             for (int32_t j = j0; j <= j1; ++j)
-                for (int32_t i = i0; i <= i1; ++i) staged_.push_back({i, j, k, item, owner, p});
+                for (int32_t i = i0; i <= i1; ++i) staged.push_back({i, j, k, item, owner, p});
     }
 
+public:
     /// Grows the table to at least 2 * entries buckets (prime) if it has fewer (to fit the
     /// copies staged so far, say); before build().
     void reserveTable(size_t entries);
     size_t stagedCount() const { return staged_.size(); }
 
-    /// Sorts the staged items into their buckets (two passes, timestamps, no clearing).
-    void build();
+    /// Sorts the staged items into their buckets (two passes, timestamps, no clearing), on the
+    /// workers' threads when given. Each bucket holds its items in the order they were added,
+    /// whatever the thread count.
+    void build(Workers* workers = nullptr);
 
     /// Whether the cube of half-width `reach` around p meets closed bounds `within`: the test
     /// of forEachNear, shared with callers that test without the table.
@@ -227,7 +251,8 @@ private:
     };
     std::vector<Entry> wide_;
     std::vector<WideRun> wideRuns_;
-    std::vector<uint32_t> touched_, slotOf_, bucketOf_;
+    std::vector<uint32_t> slotOf_, bucketOf_;
+    std::vector<std::vector<uint32_t>> touchedBy_; ///< per part of the table, its touched buckets
     /// Per owner of a staged item: its reach, and what of it the item's cells cover (the reach
     /// less the allowance).
     std::vector<float> reach_, extent_;

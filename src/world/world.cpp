@@ -6,10 +6,6 @@
 #include "ffdaabb/error.h"
 #include "world/world_data.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -198,6 +194,7 @@ void validate(const BodySettings& s) {
 World::World(const WorldSettings& settings) : data_(std::make_unique<WorldData>()) {
     validate(settings);
     data_->settings = settings;
+    data_->workers.setThreads(settings.threads);
 }
 World::~World() = default;
 World::World(World&&) noexcept = default;
@@ -323,28 +320,14 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
     return *r;
 }
 
-// Runs fn(first, last, scratch) over the items [0, n), split across the worker threads.
+// Runs fn(first, last, scratch) over the items [0, n), split across the world's threads.
 template <class F>
 void forEachItem(WorldData& w, size_t n, F&& fn) {
-    const int threads =
-        w.settings.threads == 0 ? int(tbb::info::default_concurrency()) : w.settings.threads;
-    if (w.scratch.size() < size_t(std::max(threads, 1)))
-        w.scratch.resize(size_t(std::max(threads, 1)));
-    if (threads <= 1 || n < 2) {
-        fn(size_t(0), n, w.scratch[0]);
-        return;
-    }
+    const size_t slots = size_t(w.workers.count());
+    if (w.scratch.size() < slots) w.scratch.resize(slots);
     // Items are independent in these stages, so any split gives bit-identical results.
-    static thread_local std::unique_ptr<tbb::task_arena> arena;
-    if (!arena || arena->max_concurrency() != threads)
-        arena = std::make_unique<tbb::task_arena>(threads);
-    arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1),
-                          [&](const tbb::blocked_range<size_t>& r) {
-                              const int slot = tbb::this_task_arena::current_thread_index();
-                              fn(r.begin(), r.end(), w.scratch[size_t(slot) % w.scratch.size()]);
-                          });
-    });
+    w.workers.forRange(
+        n, [&](size_t first, size_t last, int slot) { fn(first, last, w.scratch[size_t(slot)]); });
 }
 
 // Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
@@ -650,6 +633,15 @@ const WorldSettings& World::settings() const {
 void World::setSettings(const WorldSettings& settings) {
     validate(settings);
     data_->settings = settings;
+    data_->workers.setThreads(settings.threads);
+}
+
+void World::setTaskSystem(std::shared_ptr<TaskSystem> tasks) {
+    data_->workers.setTaskSystem(std::move(tasks));
+}
+
+const std::shared_ptr<TaskSystem>& World::taskSystem() const {
+    return data_->workers.taskSystem();
 }
 
 void World::setMode(CollisionMode mode) {

@@ -7,6 +7,7 @@
 #include "dynamics/mass_spring.h"
 #include "dynamics/shape_matching.h"
 #include "ffdaabb/world.h"
+#include "util/workers.h"
 
 #include <map>
 #include <memory>
@@ -95,6 +96,7 @@ struct WorldData {
     std::vector<DynamicsBatch> dynamicsBatches; ///< rebuilt when bodies come and go
     CollisionState collision;
     float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
+    Workers workers;                    ///< the world's own threads
     std::vector<ThreadScratch> scratch; ///< one per worker
 
     const BodyRecord* find(BodyId id) const {
