@@ -3,7 +3,9 @@
 // same machine conditions frame by frame), and the results are written as the paper's Table 1,
 // Table 2 and Fig. 4, beside the paper's own figures. The two pipelines find the same contacts,
 // so their trajectories must be bit-identical: bench fails (exit 1, naming the scene and the two
-// state hashes) when they are not. `--modes A,B` compares two other pipelines the same way.
+// state hashes) when they are not. `--modes A,B` compares two other pipelines the same way, and
+// `--threads A,B` one pipeline (enhanced unless --modes names two) on A and on B threads: any
+// thread count must step the same trajectory.
 #include "commands.h"
 #include "flags.h"
 #include "runner.h"
@@ -55,6 +57,9 @@ struct BenchFlags {
     CLI::Option* objectsOption = nullptr;
     std::vector<std::string> scenes{"alphabets", "spheres", "teapots", "buddhas"};
     std::vector<std::string> modes{"previous", "enhanced"};
+    CLI::Option* modesOption = nullptr;
+    std::vector<std::string> threads{"1", "1"};
+    CLI::Option* threadsOption = nullptr;
     bool quiet = false;
 };
 
@@ -64,6 +69,7 @@ struct BenchOptions {
     int warmup = 60;
     std::vector<std::string> scenes;
     std::array<CollisionMode, 2> modes{CollisionMode::Previous, CollisionMode::Enhanced};
+    std::array<int, 2> threads{1, 1};
     int objects = 0; // 0: the paper's counts
     bool quiet = false;
 };
@@ -81,15 +87,30 @@ std::array<CollisionMode, 2> parseModes(const std::vector<std::string>& given) {
         if (!parseCollisionMode(given[i], modes[i]))
             throw InputError("--modes", "unknown mode \"" + given[i] +
                                             "\" (expected two of enhanced, previous, brute, none)");
-    if (modes[0] == modes[1])
-        throw InputError("--modes", "\"" + list +
-                                        "\" names the same mode twice (expected two "
-                                        "different modes)");
     return modes;
 }
 
+// The two thread counts of --threads, checked as --modes is.
+std::array<int, 2> parseThreads(const std::vector<std::string>& given) {
+    std::string list;
+    for (const std::string& t : given) list += (list.empty() ? "" : ",") + t;
+    if (given.size() != 2)
+        throw InputError("--threads",
+                         fmt::format("\"{}\" names {} thread count{} (expected two, "
+                                     "e.g. 1,2)",
+                                     list, given.size(), given.size() == 1 ? "" : "s"));
+    return {int(parseInteger("--threads", given[0], 1, 1024)),
+            int(parseInteger("--threads", given[1], 1, 1024))};
+}
+
+// A side's label: its mode, with its thread count when the sides differ in threads.
+std::string sideLabel(CollisionMode mode, int threads, bool byThreads) {
+    return byThreads ? fmt::format("{}_{}t", toString(mode), threads) : toString(mode);
+}
+
 struct ModeResult {
-    std::string mode; ///< the collision mode's name (the JSON key, the tables' label)
+    std::string mode; ///< the side's label: its mode, "_Nt" with N threads when those differ
+    int threads = 1;
     std::vector<std::array<double, kStageCount>> frameMs;
     double mean[kStageCount] = {}, median[kStageCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxContactDepth = 0;
@@ -143,8 +164,13 @@ SceneResult benchScene(const std::string& name, const BenchOptions& o, int index
     Scene first = scene, second = scene;
     first.world.mode = o.modes[0];
     second.world.mode = o.modes[1];
-    r.modes[0].mode = toString(o.modes[0]);
-    r.modes[1].mode = toString(o.modes[1]);
+    first.world.threads = o.threads[0];
+    second.world.threads = o.threads[1];
+    const bool byThreads = o.threads[0] != o.threads[1];
+    for (int i = 0; i < 2; ++i) {
+        r.modes[size_t(i)].mode = sideLabel(o.modes[size_t(i)], o.threads[size_t(i)], byThreads);
+        r.modes[size_t(i)].threads = o.threads[size_t(i)];
+    }
     SceneBuild a = buildScene(first), b = buildScene(second);
     r.vertices = a.vertices, r.triangles = a.triangles, r.cells = a.cells;
     r.verticesPerObject = double(a.vertices) / r.objects;
@@ -177,11 +203,13 @@ std::string hashText(uint64_t hash) {
     return fmt::format("{:016x}", hash);
 }
 
-// The table's column heading for a mode: "prev" and "enh" as before, the others in full.
-std::string shortName(CollisionMode mode) {
-    return mode == CollisionMode::Previous   ? "prev"
-           : mode == CollisionMode::Enhanced ? "enh"
-                                             : toString(mode);
+// The table's column heading for a side: "prev" and "enh" as before, the others in full, with
+// the thread count when the sides differ in it.
+std::string shortName(CollisionMode mode, int threads, bool byThreads) {
+    const std::string name = mode == CollisionMode::Previous   ? "prev"
+                             : mode == CollisionMode::Enhanced ? "enh"
+                                                               : toString(mode);
+    return byThreads ? fmt::format("{} {}t", name, threads) : name;
 }
 
 std::string machineDescription() {
@@ -229,7 +257,7 @@ for i, r in enumerate(rows):
     ax.annotate(f"x{float(r['ratio']):.2f}", (i, max(prev[i], enh[i]) * 1.08), ha="center", fontsize=9)
 ax.set_xticks(list(x))
 ax.set_xticklabels([n.capitalize() for n in names])
-ax.set_ylabel("frames per second (one thread)")
+ax.set_ylabel("frames per second")
 if modes == ["previous", "enhanced"]:
     ax.set_title("Fig. 4 reproduced: previous vs enhanced FFD-AABB")
 else:
@@ -272,10 +300,12 @@ bool plotFig4(const std::filesystem::path& csv, const std::filesystem::path& png
 std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
     std::ostringstream md;
     md << "# Table 1: time per frame by stage (ms)\n\n";
-    md << fmt::format("Mean over {} frames after {} warm-up, one thread; `{}` and `{}` "
-                      "stepped side by side. The paper's figures (Core i5 3.3 GHz, previous "
-                      "method) are beside ours.\n\n",
-                      o.frames, o.warmup, toString(o.modes[0]), toString(o.modes[1]));
+    md << fmt::format("Mean over {} frames after {} warm-up; `{}` on {} thread{} and `{}` on {} "
+                      "thread{} stepped side by side. The paper's figures (Core i5 3.3 GHz, "
+                      "previous method, one thread) are beside ours.\n\n",
+                      o.frames, o.warmup, toString(o.modes[0]), o.threads[0],
+                      o.threads[0] == 1 ? "" : "s", toString(o.modes[1]), o.threads[1],
+                      o.threads[1] == 1 ? "" : "s");
     md << "| scene | objects | source | mesh updating | min, max updating | distance calculating "
           "| floor | objects collision | dynamics | total | fps |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -343,6 +373,16 @@ int run(const BenchFlags& flags) {
     o.objects =
         given(flags.objectsOption) ? int(parseInteger("--objects", flags.objects, 1, 100000)) : 0;
     o.modes = parseModes(flags.modes);
+    o.threads = parseThreads(flags.threads);
+    const bool byThreads = o.threads[0] != o.threads[1];
+    if (byThreads && !given(flags.modesOption))
+        o.modes = {CollisionMode::Enhanced, CollisionMode::Enhanced};
+    if (o.modes[0] == o.modes[1] && !byThreads) {
+        const std::string list = toString(o.modes[0]) + std::string(",") + toString(o.modes[1]);
+        throw InputError("--modes", "\"" + list +
+                                        "\" names the same mode twice (expected two different "
+                                        "modes, or two thread counts with --threads)");
+    }
     o.out = flags.out;
     o.scenes = flags.scenes;
     o.quiet = flags.quiet;
@@ -366,12 +406,14 @@ int run(const BenchFlags& flags) {
     writeTextFile((out / "table1.csv").string(), table1Csv(results));
     writeTextFile((out / "table2.md").string(), table2(results));
     std::ostringstream fig4;
-    fig4 << fmt::format("scene,fps_{},fps_{},ratio,paper_ratio\n", toString(o.modes[0]),
-                        toString(o.modes[1]));
+    fig4 << fmt::format("scene,fps_{},fps_{},ratio,paper_ratio\n",
+                        results.empty() ? "" : results[0].modes[0].mode,
+                        results.empty() ? "" : results[0].modes[1].mode);
     for (const SceneResult& r : results)
         fig4 << fmt::format("{},{:.2f},{:.2f},{:.3f},{}\n", r.name, r.modes[0].fps(),
                             r.modes[1].fps(), r.fpsRatio(),
-                            r.paper ? fmt::format("{}", kPaperRatio) : ""); // none: not the paper's
+                            r.paper && !byThreads ? fmt::format("{}", kPaperRatio)
+                                                  : ""); // none: not the paper's comparison
     writeTextFile((out / "fig4.csv").string(), fig4.str());
     std::string why;
     const bool plotted = plotFig4(out / "fig4.csv", out / "fig4.png", why);
@@ -381,7 +423,7 @@ int run(const BenchFlags& flags) {
     summary["date"] = utcNow();
     summary["frames"] = o.frames;
     summary["warmup"] = o.warmup;
-    summary["threads"] = 1;
+    summary["threads"] = {o.threads[0], o.threads[1]};
     summary["modes"] = {toString(o.modes[0]), toString(o.modes[1])};
     summary["seconds"] = seconds;
     summary["fig4_png"] = plotted;
@@ -398,6 +440,7 @@ int run(const BenchFlags& flags) {
                 mj["stage_ms_median"][kStageNames[s]] = m.median[s];
             }
             mj["frames_per_second"] = m.fps();
+            mj["threads"] = m.threads;
             mj["candidate_pairs"] = m.candidatePairs;
             mj["potential_pairs"] = m.potentialPairs;
             mj["contacts"] = m.contacts;
@@ -415,8 +458,9 @@ int run(const BenchFlags& flags) {
 
     if (!o.quiet) {
         fmt::print("\n{:<10} {:>8} {:>12} {:>12} {:>8} {:>14} {:>10}\n", "scene", "objects",
-                   "fps " + shortName(o.modes[0]), "fps " + shortName(o.modes[1]), "ratio",
-                   "coll. ratio", "same hash");
+                   "fps " + shortName(o.modes[0], o.threads[0], byThreads),
+                   "fps " + shortName(o.modes[1], o.threads[1], byThreads), "ratio", "coll. ratio",
+                   "same hash");
         for (const SceneResult& r : results)
             fmt::print("{:<10} {:>8} {:>12.1f} {:>12.1f} {:>8.2f} {:>14.2f} {:>10}\n", r.name,
                        r.objects, r.modes[0].fps(), r.modes[1].fps(), r.fpsRatio(),
@@ -465,11 +509,18 @@ void addBenchCommand(CLI::App& app, Action& action) {
     cmd->add_option("--scenes", o->scenes,
                     "Scenes to run (default: alphabets spheres teapots buddhas)")
         ->delimiter(',');
-    cmd->add_option("--modes", o->modes,
-                    "The two collision modes stepped side by side, from enhanced, previous, "
-                    "brute, none (default: previous,enhanced); exit 1 when their trajectories "
-                    "differ")
-        ->delimiter(',');
+    o->modesOption =
+        cmd->add_option("--modes", o->modes,
+                        "The two collision modes stepped side by side, from enhanced, previous, "
+                        "brute, none (default: previous,enhanced); exit 1 when their trajectories "
+                        "differ")
+            ->delimiter(',');
+    o->threadsOption =
+        cmd->add_option("--threads", o->threads,
+                        "The two sides' worker threads, 1..1024 each (default 1,1); with two "
+                        "different counts the sides step one pipeline (enhanced, or --modes), and "
+                        "exit 1 when their trajectories differ")
+            ->delimiter(',');
     o->objectsOption = cmd->add_option(
         "--objects", o->objects, "Objects per scene, 1..100000 (default: the paper's counts)");
     cmd->add_flag("--quiet", o->quiet, "No progress and no summary");
