@@ -2,12 +2,13 @@
 # The README's test command. Idempotent.
 #
 #   scripts/test.sh                  what CI runs (.ci/run): every stage below
-#   scripts/test.sh --preset NAME    one build and its whole suite only (release, dev or asan)
+#   scripts/test.sh --preset NAME    one build and its suite only (release, dev, asan or tsan)
 #
 # Stages: setup (packages, models); the release build and the whole suite; the library
 # installed to a temporary prefix with the examples built and run against it; the short soaks
 # (600 frames of the spheres and of the alphabets scene, every check); the asan build (ASan +
-# UBSan) and the whole suite under it; each libFuzzer target on 100,000 inputs from a fixed seed
+# UBSan) and the whole suite under it; the tsan build (ThreadSanitizer) and the threaded tests
+# under it (the step at 1-4 threads, task systems); each libFuzzer target on 100,000 inputs from a fixed seed
 # (at most 120 s).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -16,20 +17,20 @@ preset=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --preset)
-      [ $# -ge 2 ] || { echo "usage: scripts/test.sh [--preset release|dev|asan]" >&2; exit 2; }
+      [ $# -ge 2 ] || { echo "usage: scripts/test.sh [--preset release|dev|asan|tsan]" >&2; exit 2; }
       preset=$2; shift 2 ;;
-    *) echo "usage: scripts/test.sh [--preset release|dev|asan]" >&2; exit 2 ;;
+    *) echo "usage: scripts/test.sh [--preset release|dev|asan|tsan]" >&2; exit 2 ;;
   esac
 done
 case "$preset" in
-  "" | release | dev | asan) ;;
-  *) echo "test.sh: unknown preset '$preset' (expected release, dev or asan)" >&2; exit 2 ;;
+  "" | release | dev | asan | tsan) ;;
+  *) echo "test.sh: unknown preset '$preset' (expected release, dev, asan or tsan)" >&2; exit 2 ;;
 esac
 jobs=$(nproc)
 start=$(date +%s)
 stage() { echo "test.sh: [$(($(date +%s) - start)) s] $*"; }
 
-suite() { # build and run the whole suite of one preset
+suite() { # build and run the suite of one preset (tsan: the tests labelled threads)
   stage "$1 build"
   cmake --preset "$1" >/dev/null
   cmake --build --preset "$1" -j "$jobs"
@@ -47,6 +48,7 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   cmake --build "$prefix/examples-build" -j "$jobs" >/dev/null
   "$prefix/examples-build/hello_world" >/dev/null
   "$prefix/examples-build/drop_three"
+  "$prefix/examples-build/own_threads"
   "build/$1/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
   "build/$1/bin/ffdaabb" run --scene examples/mixed.json --frames 30 --quiet
   "build/$1/bin/ffdaabb" run --scene examples/one_spot.json --frames 10 --quiet
@@ -58,7 +60,7 @@ scripts/setup.sh
 
 if [ -n "$preset" ]; then
   suite "$preset"
-  [ "$preset" = asan ] || examples "$preset"
+  case "$preset" in asan | tsan) ;; *) examples "$preset" ;; esac
   stage "all tests passed ($preset)"
   exit 0
 fi
@@ -69,8 +71,9 @@ stage "short soaks: spheres and alphabets, 600 frames each, default tolerances; 
 build/release/bin/ffdaabb soak --scene spheres --frames 600
 build/release/bin/ffdaabb soak --scene alphabets --frames 600 --launch-tolerance 2
 suite asan
+suite tsan
 # Repeatable: a fixed seed and at most 100,000 inputs per target (about 40 s for mesh_load here),
 # from a fresh corpus in a fresh clone, so CI tries the inputs a run here tried.
 stage "fuzzing, ${FUZZ_RUNS:-100000} inputs per target (seed ${FUZZ_SEED:-1})"
 FUZZ_SEED=${FUZZ_SEED:-1} FUZZ_RUNS=${FUZZ_RUNS:-100000} scripts/fuzz.sh "${FUZZ_SECONDS:-120}"
-stage "all stages passed: release and asan suites, examples, soak, fuzzing"
+stage "all stages passed: release, asan and tsan suites, examples, soak, fuzzing"
