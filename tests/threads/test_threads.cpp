@@ -16,20 +16,15 @@ using namespace ffd;
 
 namespace {
 
-// A TaskSystem that starts a thread per slot for every run (examples/own_threads.cpp's).
-class SpawningTasks final : public TaskSystem {
+// A TaskSystem that runs a loop's indices on the caller, last index first, each on the next
+// slot in turn: the world must not depend on the order of its tasks or on which slot runs
+// which (the threaded order is ThreadPool's; examples/own_threads.cpp spawns threads).
+class ReversedTasks final : public TaskSystem {
 public:
-    explicit SpawningTasks(int slots) : slots_(slots) {}
+    explicit ReversedTasks(int slots) : slots_(slots) {}
     int slotCount() const override { return slots_; }
     void run(size_t count, const std::function<void(size_t, int)>& task) override {
-        std::atomic<size_t> next{0};
-        auto work = [&](int slot) {
-            for (size_t i; (i = next.fetch_add(1)) < count;) task(i, slot);
-        };
-        std::vector<std::thread> helpers;
-        for (int slot = 1; slot < slots_; ++slot) helpers.emplace_back(work, slot);
-        work(0);
-        for (std::thread& t : helpers) t.join();
+        for (size_t i = count; i-- > 0;) task(i, int((count - 1 - i + size_t(runs)) % slots_));
         ++runs;
     }
     int runs = 0;
@@ -130,9 +125,9 @@ TEST(ThreadCounts, ChangingTheThreadCountBetweenStepsChangesNothing) {
 
 TEST(TaskSystems, AJobSystemOfTheCallersStepsTheSameAsTheWorldsOwnThreads) {
     const uint64_t own = hashAfter("spheres", 60, 1);
-    auto spawning = std::make_shared<SpawningTasks>(3);
-    EXPECT_EQ(hashAfter("spheres", 60, 1, spawning), own);
-    EXPECT_GT(spawning->runs, 60) << "the world did not run its loops on the task system";
+    auto reversed = std::make_shared<ReversedTasks>(3);
+    EXPECT_EQ(hashAfter("spheres", 60, 1, reversed), own);
+    EXPECT_GT(reversed->runs, 60) << "the world did not run its loops on the task system";
     EXPECT_EQ(hashAfter("spheres", 60, 1, std::make_shared<ThreadPool>(2)), own);
 }
 
@@ -140,7 +135,7 @@ TEST(TaskSystems, ClearingTheTaskSystemReturnsToTheWorldsThreads) {
     Scene scene = loadScene("spheres");
     scene.world.threads = 2;
     SceneBuild build = buildScene(scene);
-    auto tasks = std::make_shared<SpawningTasks>(2);
+    auto tasks = std::make_shared<ReversedTasks>(2);
     build.world.setTaskSystem(tasks);
     EXPECT_EQ(build.world.taskSystem(), tasks);
     build.world.step();
