@@ -40,6 +40,7 @@
 #include "util/workers.h"
 
 #include <span>
+#include <string>
 #include <vector>
 
 namespace ffd::detail {
@@ -138,6 +139,21 @@ struct ZoneCell {
 /// goes to a last zone of its own colour. Each zone keeps the contacts' order.
 void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
                          SolverSchedule& out, Workers& workers);
+
+/// What is wrong with `schedule` for `contacts` between `bodyCount` bodies (empty: nothing):
+/// every contact once in its order, zones and colours in range and in order, and no body in
+/// two zones of one colour but the last (the tail, one zone). The zones of a colour are swept
+/// at once, so a body shared between two would be written by two threads. Checked after every
+/// build with FFD_CHECKS (util/check.h); tests call it directly.
+std::string scheduleProblem(std::span<const Contact> contacts, const SolverSchedule& schedule,
+                            size_t bodyCount);
+
+/// What is wrong with the contacts of a world of `bodyCount` bodies and `particleCount`
+/// particles (empty: nothing): bodies in range and distinct, points on their bodies' particles
+/// with finite weights summing to 1.
+std::string contactProblem(std::span<const Contact> contacts, size_t bodyCount,
+                           std::span<const uint32_t> firstParticle,
+                           std::span<const uint32_t> particleCount);
 
 /// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
 /// each body's reach (how far the first sweep moved it), the contacts the later sweeps visit

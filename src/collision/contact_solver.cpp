@@ -191,6 +191,83 @@ void buildSolverSchedule(std::span<const Contact> contacts, std::span<const Zone
     }
 }
 
+std::string scheduleProblem(std::span<const Contact> contacts, const SolverSchedule& schedule,
+                            size_t bodyCount) {
+    auto say = [](const char* what, size_t a, size_t b = 0) {
+        return std::string(what) + " (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+    };
+    const size_t n = contacts.size();
+    if (n == 0) return schedule.order.empty() ? std::string() : say("order without contacts", 0);
+    if (schedule.order.size() != n) return say("order size != contacts", schedule.order.size(), n);
+    const size_t zones = schedule.zoneCount();
+    if (zones == 0 || schedule.zoneStart.front() != 0 || schedule.zoneStart.back() != n)
+        return say("zone starts do not span the order", zones, n);
+    for (size_t z = 0; z < zones; ++z)
+        if (schedule.zoneStart[z] > schedule.zoneStart[z + 1])
+            return say("zone starts decrease", z);
+    const std::vector<uint32_t>& colours = schedule.colourStart;
+    if (colours.size() < 2 || colours.front() != 0 || colours.back() != zones)
+        return say("colour starts do not span the zones", colours.size(), zones);
+    if (schedule.bySize.size() != zones) return say("bySize size != zones", schedule.bySize.size());
+    std::vector<uint8_t> seen(n, 0);
+    for (const uint32_t c : schedule.order) {
+        if (c >= n) return say("contact index out of range", c, n);
+        if (seen[c]++) return say("contact scheduled twice", c);
+    }
+    // owner[b]: the zone of the current colour that touched body b (kNone: none yet).
+    constexpr uint32_t kNone = UINT32_MAX;
+    std::vector<uint32_t> owner(bodyCount, kNone), touched;
+    for (size_t c = 0; c + 1 < colours.size(); ++c) {
+        if (colours[c] > colours[c + 1]) return say("colour starts decrease", c);
+        const bool tail = c + 2 == colours.size() && colours[c + 1] - colours[c] == 1;
+        for (uint32_t z = colours[c]; z < colours[c + 1]; ++z)
+            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+                const Contact& k = contacts[schedule.order[m]];
+                const uint32_t bodies[2] = {k.bodyA, k.hasB ? k.bodyB : k.bodyA};
+                for (const uint32_t b : bodies) {
+                    if (b >= bodyCount) return say("body out of range", b, bodyCount);
+                    if (owner[b] == kNone)
+                        owner[b] = z, touched.push_back(b);
+                    else if (owner[b] != z && !tail)
+                        return say("body in two zones of one colour", b, c);
+                }
+            }
+        for (const uint32_t b : touched) owner[b] = kNone;
+        touched.clear();
+    }
+    return {};
+}
+
+std::string contactProblem(std::span<const Contact> contacts, size_t bodyCount,
+                           std::span<const uint32_t> firstParticle,
+                           std::span<const uint32_t> particleCount) {
+    auto say = [](const char* what, size_t n, size_t v) {
+        return std::string(what) + " (contact " + std::to_string(n) + ": " + std::to_string(v) +
+               ")";
+    };
+    auto pointProblem = [&](const ContactPoint& p, uint32_t body) -> const char* {
+        float sum = 0;
+        for (int k = 0; k < 8; ++k) {
+            if (!std::isfinite(p.weight[k])) return "weight not finite";
+            if (p.particle[k] < firstParticle[body] ||
+                p.particle[k] >= firstParticle[body] + particleCount[body])
+                return "point on another body's particle";
+            sum += p.weight[k];
+        }
+        return std::abs(sum - 1.0f) < 1e-3f ? nullptr : "weights do not sum to 1";
+    };
+    for (size_t n = 0; n < contacts.size(); ++n) {
+        const Contact& c = contacts[n];
+        if (c.bodyA >= bodyCount) return say("body A out of range", n, c.bodyA);
+        if (c.hasB && (c.bodyB >= bodyCount || c.bodyB == c.bodyA))
+            return say("body B out of range or A", n, c.bodyB);
+        if (const char* p = pointProblem(c.a, c.bodyA)) return say(p, n, c.bodyA);
+        if (c.hasB)
+            if (const char* p = pointProblem(c.b, c.bodyB)) return say(p, n, c.bodyB);
+    }
+    return {};
+}
+
 void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
                         std::span<const float> invMass, std::span<const uint32_t> firstParticle,
                         std::span<const uint32_t> particleCount, std::span<RigidState> states,

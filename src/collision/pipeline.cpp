@@ -4,6 +4,7 @@
 #include "collision/pipeline.h"
 
 #include "collision/overlap_recovery.h"
+#include "util/check.h"
 #include "world/world_data.h"
 
 #include <algorithm>
@@ -781,6 +782,13 @@ void respondBeforeMove(WorldData& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return;
     scheduleContacts(w);
+#if FFD_CHECKS
+    const std::string contacts =
+        contactProblem(s.all, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount);
+    FFD_CHECK(contacts.empty(), "contacts: " + contacts);
+    const std::string schedule = scheduleProblem(s.all, s.solver.schedule, w.bodies.size());
+    FFD_CHECK(schedule.empty(), "solver schedule: " + schedule);
+#endif
     const int iterations = w.settings.solverIterations;
     solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver,
                           w.workers);

@@ -727,3 +727,47 @@ TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
     for (int f = 0; f < 30; ++f) world.step();
     EXPECT_TRUE(world.isValid(lower) && world.isValid(upper) && world.isValid(beside));
 }
+
+// The invariants FFD_CHECKS asserts after every schedule build: met by a real pile's contacts
+// and schedule, and each broken one found.
+TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
+    Scene scene = loadScene("spheres");
+    scene.objects[0].count = 30;
+    SceneBuild build = buildScene(scene);
+    for (int f = 0; f < 40; ++f) build.world.step();
+    const detail::WorldData& w = build.world.data();
+    const detail::CollisionState& s = w.collision;
+    ASSERT_GT(s.all.size(), 100u); // the spheres lie on each other and the floor
+    const detail::SolverSchedule& real = s.solver.schedule;
+    ASSERT_GT(real.colourStart.size(), 2u); // more than one colour
+    EXPECT_EQ(detail::scheduleProblem(s.all, real, w.bodies.size()), "");
+    EXPECT_EQ(
+        detail::contactProblem(s.all, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount),
+        "");
+
+    detail::SolverSchedule twice = real;
+    twice.order[1] = twice.order[0];
+    EXPECT_NE(detail::scheduleProblem(s.all, twice, w.bodies.size()).find("twice"),
+              std::string::npos);
+
+    // Two floor contacts of one body in two zones of one colour (and a tail colour after it).
+    std::vector<detail::Contact> floor(3);
+    for (detail::Contact& c : floor) c.bodyA = 0;
+    floor[2].bodyA = 1;
+    detail::SolverSchedule shared;
+    shared.order = {0, 1, 2};
+    shared.zoneStart = {0, 1, 2, 3};
+    shared.colourStart = {0, 2, 3};
+    shared.bySize = {0, 1, 2};
+    EXPECT_NE(detail::scheduleProblem(floor, shared, 2).find("two zones of one colour"),
+              std::string::npos);
+    shared.colourStart = {0, 1, 2, 3}; // each zone its own colour: nothing shared
+    EXPECT_EQ(detail::scheduleProblem(floor, shared, 2), "");
+
+    std::vector<detail::Contact> stray(s.all.begin(), s.all.begin() + 2);
+    stray[1].a.particle[0] = uint32_t(w.x.size()); // beyond every body's particles
+    EXPECT_NE(
+        detail::contactProblem(stray, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount)
+            .find("another body's particle"),
+        std::string::npos);
+}
