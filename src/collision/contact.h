@@ -148,9 +148,9 @@ void buildSolverSchedule(std::span<const Contact> contacts, std::span<const Zone
 std::string scheduleProblem(std::span<const Contact> contacts, const SolverSchedule& schedule,
                             size_t bodyCount);
 
-/// What is wrong with the contacts of a world of `bodyCount` bodies and `particleCount`
-/// particles (empty: nothing): bodies in range and distinct, points on their bodies' particles
-/// with finite weights summing to 1.
+/// What is wrong with the contacts between `bodyCount` bodies, body b owning the particles
+/// [firstParticle[b], firstParticle[b] + particleCount[b]) (empty: nothing): bodies in range
+/// and distinct, points on their own bodies' particles with finite weights summing to 1.
 std::string contactProblem(std::span<const Contact> contacts, size_t bodyCount,
                            std::span<const uint32_t> firstParticle,
                            std::span<const uint32_t> particleCount);

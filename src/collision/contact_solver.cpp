@@ -51,6 +51,16 @@ void forEachZone(const SolverSchedule& schedule, std::span<const uint32_t> end, 
     }
 }
 
+// Calls fn(m) for the positions m of the zones' subsets [zoneStart[z], end[z]), each zone's in
+// order, the zones as forEachZone visits them: one Gauss-Seidel sweep over a selection.
+template <class F>
+void sweepZones(const SolverSchedule& schedule, std::span<const uint32_t> end, Workers& workers,
+                F&& fn) {
+    forEachZone(schedule, end, workers, [&](uint32_t z) {
+        for (uint32_t m = schedule.zoneStart[z]; m < end[z]; ++m) fn(m);
+    });
+}
+
 // Every zone's contacts: its range of the schedule's order.
 std::span<const uint32_t> zoneEnds(const SolverSchedule& schedule) {
     return std::span<const uint32_t>(schedule.zoneStart).subspan(1);
@@ -414,29 +424,27 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         });
     };
     inEveryZone(prepare);
-    auto sweep = [&](uint32_t z) {
-        for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) {
-            const Contact& c = contacts[impacts[j]];
-            RigidPoint& p = points[j];
-            if (p.invK == 0) continue;
-            RigidState& A = states[c.bodyA];
-            // Normal relative velocity: base + (dv_A + dw_A x r_A) . n - (B's), with
-            // (w x r) . n = w . (r x n).
-            float vn = c.approachSpeed + dot(A.dv, c.normal) + dot(A.dw, p.armA);
-            RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
-            if (B) vn -= dot(B->dv, c.normal) + dot(B->dw, p.armB);
-            const float old = p.normalImpulse;
-            p.normalImpulse = maxNum(old + (p.target - vn) * p.invK, 0.0f);
-            const float d = p.normalImpulse - old;
-            A.dv += c.normal * (d * p.invMassA);
-            A.dw += p.turnA * d;
-            if (B) {
-                B->dv -= c.normal * (d * p.invMassB);
-                B->dw -= p.turnB * d;
-            }
+    auto sweep = [&](uint32_t j) {
+        const Contact& c = contacts[impacts[j]];
+        RigidPoint& p = points[j];
+        if (p.invK == 0) return;
+        RigidState& A = states[c.bodyA];
+        // Normal relative velocity: base + (dv_A + dw_A x r_A) . n - (B's), with
+        // (w x r) . n = w . (r x n).
+        float vn = c.approachSpeed + dot(A.dv, c.normal) + dot(A.dw, p.armA);
+        RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
+        if (B) vn -= dot(B->dv, c.normal) + dot(B->dw, p.armB);
+        const float old = p.normalImpulse;
+        p.normalImpulse = maxNum(old + (p.target - vn) * p.invK, 0.0f);
+        const float d = p.normalImpulse - old;
+        A.dv += c.normal * (d * p.invMassA);
+        A.dw += p.turnA * d;
+        if (B) {
+            B->dv -= c.normal * (d * p.invMassB);
+            B->dw -= p.turnB * d;
         }
     };
-    for (int it = 0; it < iterations; ++it) forEachZone(schedule, impactEnd, workers, sweep);
+    for (int it = 0; it < iterations; ++it) sweepZones(schedule, impactEnd, workers, sweep);
     inEveryZone([&](uint32_t j) { contacts[impacts[j]].rigidImpulse = points[j].normalImpulse; });
     workers.forRange(states.size(), [&](size_t first, size_t last, int) {
         for (size_t b = first; b < last; ++b) {
@@ -501,10 +509,8 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
     if (iterations <= 1 || deepest <= 0) return;
     selectReachable(contacts, scratch, workers);
     for (int it = 1; it < iterations; ++it)
-        forEachZone(schedule, scratch.activeEnd, workers, [&](uint32_t z) {
-            for (uint32_t m = schedule.zoneStart[z]; m < scratch.activeEnd[z]; ++m)
-                sweep(contacts[scratch.active[m]]);
-        });
+        sweepZones(schedule, scratch.activeEnd, workers,
+                   [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
 }
 
 float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
@@ -581,10 +587,8 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     selectReachable(contacts, scratch, workers);
     firstSweep = false;
     for (int it = 1; it < iterations; ++it)
-        forEachZone(schedule, scratch.activeEnd, workers, [&](uint32_t z) {
-            for (uint32_t m = schedule.zoneStart[z]; m < scratch.activeEnd[z]; ++m)
-                sweep(contacts[scratch.active[m]]);
-        });
+        sweepZones(schedule, scratch.activeEnd, workers,
+                   [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
     return deepest;
 }
 

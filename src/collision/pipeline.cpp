@@ -766,7 +766,7 @@ void scheduleContacts(WorldData& w) {
     std::vector<ZoneCell>& cells = s.solver.cells;
     cells.resize(w.bodies.size());
     for (size_t b = 0; b < w.bodies.size(); ++b) {
-        const Vec3 c = (w.bodies[b].bounds.lo + w.bodies[b].bounds.hi) * (0.5f * inverse);
+        const Vec3 c = w.bodies[b].bounds.centre() * inverse;
         constexpr float kRange = 1 << 29;
         if (std::abs(c.x) < kRange && std::abs(c.z) < kRange)
             cells[b] = {int32_t(std::floor(c.x)), int32_t(std::floor(c.z))};

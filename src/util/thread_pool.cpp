@@ -7,6 +7,7 @@
 // waits for it, or the clearing does and the worker sees no job).
 #include "ffdaabb/error.h"
 #include "ffdaabb/tasks.h"
+#include "util/workers.h"
 
 #include <algorithm>
 #include <atomic>
@@ -96,7 +97,7 @@ ThreadPool::ThreadPool(int threads) : shared_(std::make_unique<Shared>()) {
     if (threads < 0 || threads > 1024)
         throw InputError("threads", "ThreadPool of " + std::to_string(threads) +
                                         " threads (expected 0 for all cores, or 1..1024)");
-    threads_ = threads == 0 ? int(std::max(1u, std::thread::hardware_concurrency())) : threads;
+    threads_ = detail::resolveThreads(threads);
     for (int slot = 1; slot < threads_; ++slot)
         shared_->workers.emplace_back([this, slot] { shared_->worker(slot); });
 }

@@ -29,15 +29,17 @@ struct Workers::Arena {
 #endif
 };
 
+int resolveThreads(int threads) {
+    return threads == 0 ? int(std::max(1u, std::thread::hardware_concurrency())) : threads;
+}
+
 Workers::Workers() = default;
 Workers::~Workers() = default;
 Workers::Workers(Workers&&) noexcept = default;
 Workers& Workers::operator=(Workers&&) noexcept = default;
 
 void Workers::setThreads(int threads) {
-    const int count =
-        threads == 0 ? int(std::max(1u, std::thread::hardware_concurrency())) : threads;
-    count_ = std::max(count, 1);
+    count_ = std::max(resolveThreads(threads), 1);
     if (count_ == 1 || (arena_ && arena_->concurrency() != count_)) arena_.reset();
 }
 

@@ -10,6 +10,9 @@
 
 namespace ffd::detail {
 
+/// A thread count as the settings give it: 0 is the hardware's count (at least 1).
+int resolveThreads(int threads);
+
 class Workers {
 public:
     Workers();
