@@ -59,7 +59,6 @@ struct BenchFlags {
     std::vector<std::string> modes{"previous", "enhanced"};
     CLI::Option* modesOption = nullptr;
     std::vector<std::string> threads{"1", "1"};
-    CLI::Option* threadsOption = nullptr;
     bool quiet = false;
 };
 
@@ -74,14 +73,20 @@ struct BenchOptions {
     bool quiet = false;
 };
 
+// Checks that a two-sided flag (--modes, --threads) names two values, one per side:
+// InputError naming the flag, the values and what was expected otherwise.
+void requireTwo(const char* flag, const std::vector<std::string>& given, const char* noun,
+                const char* example) {
+    if (given.size() == 2) return;
+    std::string list;
+    for (const std::string& v : given) list += (list.empty() ? "" : ",") + v;
+    throw InputError(flag, fmt::format("\"{}\" names {} {}{} (expected two, e.g. {})", list,
+                                       given.size(), noun, given.size() == 1 ? "" : "s", example));
+}
+
 // The two pipelines of --modes, checked: InputError naming the flag and the value otherwise.
 std::array<CollisionMode, 2> parseModes(const std::vector<std::string>& given) {
-    std::string list;
-    for (const std::string& m : given) list += (list.empty() ? "" : ",") + m;
-    if (given.size() != 2)
-        throw InputError("--modes", fmt::format("\"{}\" names {} mode{} (expected two, e.g. "
-                                                "previous,enhanced)",
-                                                list, given.size(), given.size() == 1 ? "" : "s"));
+    requireTwo("--modes", given, "mode", "previous,enhanced");
     std::array<CollisionMode, 2> modes{};
     for (size_t i = 0; i < 2; ++i)
         if (!parseCollisionMode(given[i], modes[i]))
@@ -92,13 +97,7 @@ std::array<CollisionMode, 2> parseModes(const std::vector<std::string>& given) {
 
 // The two thread counts of --threads, checked as --modes is.
 std::array<int, 2> parseThreads(const std::vector<std::string>& given) {
-    std::string list;
-    for (const std::string& t : given) list += (list.empty() ? "" : ",") + t;
-    if (given.size() != 2)
-        throw InputError("--threads",
-                         fmt::format("\"{}\" names {} thread count{} (expected two, "
-                                     "e.g. 1,2)",
-                                     list, given.size(), given.size() == 1 ? "" : "s"));
+    requireTwo("--threads", given, "thread count", "1,2");
     return {int(parseInteger("--threads", given[0], 1, 1024)),
             int(parseInteger("--threads", given[1], 1, 1024))};
 }
@@ -515,12 +514,11 @@ void addBenchCommand(CLI::App& app, Action& action) {
                         "brute, none (default: previous,enhanced); exit 1 when their trajectories "
                         "differ")
             ->delimiter(',');
-    o->threadsOption =
-        cmd->add_option("--threads", o->threads,
-                        "The two sides' worker threads, 1..1024 each (default 1,1); with two "
-                        "different counts the sides step one pipeline (enhanced, or --modes), and "
-                        "exit 1 when their trajectories differ")
-            ->delimiter(',');
+    cmd->add_option("--threads", o->threads,
+                    "The two sides' worker threads, 1..1024 each (default 1,1); with two "
+                    "different counts the sides step one pipeline (enhanced, or --modes), and "
+                    "exit 1 when their trajectories differ")
+        ->delimiter(',');
     o->objectsOption = cmd->add_option(
         "--objects", o->objects, "Objects per scene, 1..100000 (default: the paper's counts)");
     cmd->add_flag("--quiet", o->quiet, "No progress and no summary");
