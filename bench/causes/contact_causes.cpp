@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     }
     SceneBuild build = buildScene(scene);
     World& world = build.world;
-    detail::WorldData& w = world.data();
+    detail::WorldData& w = detail::dataOf(world);
     std::vector<bench::MeshView> views;
     std::vector<const detail::BodyRecord*> records;
     for (BodyId id : build.bodies) {

@@ -147,8 +147,19 @@ struct BodyInfo {
     float mass = 0;
 };
 
+/// A contact of the last substep, as the collision pipeline found it and the response
+/// resolved it (World::contacts).
+struct ContactInfo {
+    BodyId bodyA;      ///< the body whose embedded point is in contact
+    BodyId bodyB;      ///< the other body; null for the floor
+    Vec3 point;        ///< A's point at the end of the step, m
+    Vec3 normal;       ///< unit, the direction A was pushed relative to B
+    float depth = 0;   ///< penetration when found (0: found within the contact skin), m
+    float impulse = 0; ///< normal impulse the response applied over the substep, N s
+};
+
 namespace detail {
-struct WorldData;
+struct WorldAccess;
 }
 
 class World {
@@ -219,6 +230,12 @@ public:
     void setTaskSystem(std::shared_ptr<TaskSystem> tasks);
     const std::shared_ptr<TaskSystem>& taskSystem() const;
 
+    /// Object contacts, then floor contacts, of the last substep of the last step() (empty before
+    /// the first step and in CollisionMode::None for objects), in a canonical order. Clears `out`.
+    void contacts(std::vector<ContactInfo>& out) const;
+    /// Mass of one lattice particle, kg (its share of the body's mass).
+    float particleMass(BodyId body, uint32_t particle) const;
+
     const Profile& profile() const;
     /// Frames stepped so far.
     uint64_t frame() const;
@@ -227,11 +244,10 @@ public:
     /// Total kinetic energy (J) of all particles.
     double kineticEnergy() const;
 
-    detail::WorldData& data() { return *data_; }
-    const detail::WorldData& data() const { return *data_; }
-
 private:
-    std::unique_ptr<detail::WorldData> data_;
+    friend struct detail::WorldAccess; // the library's tools and tests (src/world/world_data.h)
+    struct State;
+    std::unique_ptr<State> state_;
 };
 
 /// Throws InputError (naming the field) when a setting is out of range.

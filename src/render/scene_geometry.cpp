@@ -1,7 +1,5 @@
 #include "render/scene_geometry.h"
 
-#include "world/world_data.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -49,27 +47,19 @@ void addLine(Vec3 a, Vec3 b, Vec3 colour, std::vector<LineVertex>& out) {
     out.push_back({b, colour});
 }
 
-Vec3 evaluatePoint(const ffd::detail::ContactPoint& p, std::span<const Vec3> x) {
-    Vec3 r{};
-    for (int k = 0; k < 8; ++k) r += x[p.particle[k]] * p.weight[k];
-    return r;
-}
-
 void appendContacts(const World& world, std::vector<LineVertex>& out) {
-    const ffd::detail::WorldData& w = world.data();
-    const std::span<const Vec3> x = w.x;
-    auto draw = [&](const ffd::detail::Contact& c, Vec3 colour) {
-        if (c.bodyA >= w.bodies.size()) return;
-        const float h = w.bodies[c.bodyA].cellSize;
-        const Vec3 p = evaluatePoint(c.a, x);
+    std::vector<ContactInfo> contacts;
+    world.contacts(contacts);
+    for (const ContactInfo& c : contacts) {
+        const float h = world.lattice(c.bodyA).cellSize;
+        const Vec3 colour = c.bodyB.isNull() ? kFloorContactColour : kObjectContactColour;
+        const Vec3 p = c.point;
         const float s = 0.12f * h;
         addLine(p - Vec3{s, 0, 0}, p + Vec3{s, 0, 0}, colour, out);
         addLine(p - Vec3{0, s, 0}, p + Vec3{0, s, 0}, colour, out);
         addLine(p - Vec3{0, 0, s}, p + Vec3{0, 0, s}, colour, out);
         addLine(p, p + c.normal * (0.6f * h), colour, out);
-    };
-    for (const ffd::detail::Contact& c : w.collision.objectContacts()) draw(c, kObjectContactColour);
-    for (const ffd::detail::Contact& c : w.collision.floorContacts()) draw(c, kFloorContactColour);
+    }
 }
 
 } // namespace

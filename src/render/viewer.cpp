@@ -5,7 +5,6 @@
 #include "ffdaabb/error.h"
 #include "render/camera_math.h"
 #include "render/gl_drivers.h"
-#include "world/world_data.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -187,10 +186,8 @@ struct Viewer::Impl {
     // the body swings nor the particle jitters.
     void applyDragForce() {
         if (drag != Drag::Body || !world->isValid(dragBody)) return;
-        const ffd::detail::BodyRecord* record = world->data().find(dragBody);
-        const float particleMass =
-            1.0f / world->data().invMass[record->firstParticle + dragParticle];
-        const float bodyMass = record->mass;
+        const float particleMass = world->particleMass(dragBody, dragParticle);
+        const float bodyMass = world->info(dragBody).mass;
         const float dt = world->settings().frameStep / float(world->settings().substeps);
         const float k = std::min(0.25f * particleMass / (dt * dt), kDragStiffness * bodyMass);
         const Vec3 x = world->particles(dragBody)[dragParticle];

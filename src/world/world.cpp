@@ -191,10 +191,10 @@ void validate(const BodySettings& s) {
                          "rotation is not a valid quaternion (zero or non-finite)");
 }
 
-World::World(const WorldSettings& settings) : data_(std::make_unique<WorldData>()) {
+World::World(const WorldSettings& settings) : state_(std::make_unique<State>()) {
     validate(settings);
-    data_->settings = settings;
-    data_->workers.setThreads(settings.threads);
+    state_->settings = settings;
+    state_->workers.setThreads(settings.threads);
 }
 World::~World() = default;
 World::World(World&&) noexcept = default;
@@ -203,7 +203,7 @@ World& World::operator=(World&&) noexcept = default;
 BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     validate(settings);
     validate(mesh, mesh.name.empty() ? "mesh" : mesh.name);
-    WorldData& w = *data_;
+    WorldData& w = *state_;
     const std::string key = modelKey(mesh, settings);
     auto cached = w.modelCache.find(key);
     std::shared_ptr<const BodyModel> model =
@@ -260,7 +260,7 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
 }
 
 bool World::removeBody(BodyId id) {
-    WorldData& w = *data_;
+    WorldData& w = *state_;
     const BodyRecord* found = w.find(id);
     if (!found) return false;
     const uint32_t dense = w.slots[id.index].dense;
@@ -289,6 +289,8 @@ bool World::removeBody(BodyId id) {
     ++w.slots[id.index].generation;
     w.freeSlots.push_back(id.index);
     w.collision.pairs.clear();
+    w.collision.all.clear(); // its contacts name the bodies' old ranges
+    w.collision.objectCount = 0;
     detail::forgetBody(w, dense);
     detail::forgetBoxes(w, r.firstBox, r.boxCount);
     detail::rebuildCollisionTopology(w);
@@ -297,16 +299,16 @@ bool World::removeBody(BodyId id) {
 }
 
 bool World::isValid(BodyId id) const {
-    return data_->find(id) != nullptr;
+    return state_->find(id) != nullptr;
 }
 size_t World::bodyCount() const {
-    return data_->bodies.size();
+    return state_->bodies.size();
 }
 
 std::vector<BodyId> World::bodies() const {
     std::vector<BodyId> ids;
-    for (const BodyRecord& r : data_->bodies)
-        ids.push_back({r.slot, data_->slots[r.slot].generation});
+    for (const BodyRecord& r : state_->bodies)
+        ids.push_back({r.slot, state_->slots[r.slot].generation});
     return ids;
 }
 
@@ -318,6 +320,13 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
         throw InputError("body", "stale or invalid body handle (index " + std::to_string(id.index) +
                                      ", generation " + std::to_string(id.generation) + ")");
     return *r;
+}
+
+void requireParticle(const BodyRecord& r, uint32_t particle) {
+    if (particle >= r.particleCount)
+        throw InputError("particle", "index " + std::to_string(particle) +
+                                         " is out of range (body has " +
+                                         std::to_string(r.particleCount) + " particles)");
 }
 
 // Runs fn(first, last, scratch) over the items [0, n), split across the world's threads.
@@ -410,7 +419,7 @@ void dynamicsStage(WorldData& w, float dt) {
 } // namespace
 
 void World::step() {
-    WorldData& w = *data_;
+    WorldData& w = *state_;
     Profile& prof = w.profile;
     prof = Profile{};
     const auto frameStart = Clock::now();
@@ -496,52 +505,52 @@ void World::step() {
 }
 
 std::span<const Vec3> World::vertices(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    return {data_->vertices.data() + r.firstVertex, r.vertexCount};
+    const BodyRecord& r = get(*state_, id);
+    return {state_->vertices.data() + r.firstVertex, r.vertexCount};
 }
 
 std::span<const std::array<uint32_t, 3>> World::triangles(BodyId id) const {
-    return get(*data_, id).model->mesh.triangles;
+    return get(*state_, id).model->mesh.triangles;
 }
 
 std::span<const Vec3> World::particles(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    return {data_->x.data() + r.firstParticle, r.particleCount};
+    const BodyRecord& r = get(*state_, id);
+    return {state_->x.data() + r.firstParticle, r.particleCount};
 }
 
 std::span<const Vec3> World::velocities(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    return {data_->v.data() + r.firstParticle, r.particleCount};
+    const BodyRecord& r = get(*state_, id);
+    return {state_->v.data() + r.firstParticle, r.particleCount};
 }
 
 std::span<const Vec3> World::boxNodes(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
-    return {data_->nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8};
+    const BodyRecord& r = get(*state_, id);
+    return {state_->nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8};
 }
 
 const Lattice& World::lattice(BodyId id) const {
-    return get(*data_, id).model->lattice;
+    return get(*state_, id).model->lattice;
 }
 Aabb World::bounds(BodyId id) const {
-    return get(*data_, id).bounds;
+    return get(*state_, id).bounds;
 }
 
 void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
-    const BodyRecord& r = get(*data_, id);
+    const BodyRecord& r = get(*state_, id);
     centre = r.sphereCentre;
     radius = r.sphereRadius;
 }
 
 Vec3 World::centreOfMass(BodyId id) const {
-    return detail::massWeightedMean(get(*data_, id), data_->x);
+    return detail::massWeightedMean(get(*state_, id), state_->x);
 }
 
 Vec3 World::linearVelocity(BodyId id) const {
-    return detail::massWeightedMean(get(*data_, id), data_->v);
+    return detail::massWeightedMean(get(*state_, id), state_->v);
 }
 
 BodyInfo World::info(BodyId id) const {
-    const BodyRecord& r = get(*data_, id);
+    const BodyRecord& r = get(*state_, id);
     const Lattice& L = r.model->lattice;
     BodyInfo i;
     i.vertices = r.model->mesh.positions.size();
@@ -554,50 +563,73 @@ BodyInfo World::info(BodyId id) const {
     return i;
 }
 
+void World::contacts(std::vector<ContactInfo>& out) const {
+    const WorldData& w = *state_;
+    out.clear();
+    out.reserve(w.collision.all.size());
+    auto handle = [&](uint32_t dense) {
+        const BodyRecord& r = w.bodies[dense];
+        return BodyId{r.slot, w.slots[r.slot].generation};
+    };
+    for (const detail::Contact& c : w.collision.all) {
+        ContactInfo info;
+        info.bodyA = handle(c.bodyA);
+        if (c.hasB) info.bodyB = handle(c.bodyB);
+        info.point = detail::blend(c.a, w.x);
+        info.normal = c.normal;
+        info.depth = c.depth();
+        info.impulse = c.rigidImpulse + c.positionImpulse + c.normalImpulse;
+        out.push_back(info);
+    }
+}
+
+float World::particleMass(BodyId id, uint32_t particle) const {
+    const BodyRecord& r = get(*state_, id);
+    requireParticle(r, particle);
+    return 1.0f / state_->invMass[r.firstParticle + particle];
+}
+
 const BodySettings& World::settings(BodyId id) const {
-    return get(*data_, id).settings;
+    return get(*state_, id).settings;
 }
 
 void World::applyForce(BodyId id, Vec3 force) {
     requireFinite("force", force);
-    get(*data_, id);
-    data_->find(id)->force += force;
+    get(*state_, id);
+    state_->find(id)->force += force;
 }
 
 void World::applyImpulse(BodyId id, Vec3 impulse) {
     requireFinite("impulse", impulse);
-    const BodyRecord& r = get(*data_, id);
+    const BodyRecord& r = get(*state_, id);
     const Vec3 dv = impulse / r.mass;
-    for (uint32_t i = 0; i < r.particleCount; ++i) data_->v[r.firstParticle + i] += dv;
+    for (uint32_t i = 0; i < r.particleCount; ++i) state_->v[r.firstParticle + i] += dv;
 }
 
 void World::applyParticleForce(BodyId id, uint32_t particle, Vec3 force) {
     requireFinite("force", force);
-    const BodyRecord& r = get(*data_, id);
-    if (particle >= r.particleCount)
-        throw InputError("particle", "index " + std::to_string(particle) +
-                                         " is out of range (body has " +
-                                         std::to_string(r.particleCount) + " particles)");
-    data_->particleForce[r.firstParticle + particle] += force;
+    const BodyRecord& r = get(*state_, id);
+    requireParticle(r, particle);
+    state_->particleForce[r.firstParticle + particle] += force;
 }
 
 void World::translate(BodyId id, Vec3 offset) {
     requireFinite("offset", offset);
-    const BodyRecord& r = get(*data_, id);
-    for (uint32_t i = 0; i < r.particleCount; ++i) data_->x[r.firstParticle + i] += offset;
-    data_->find(id)->placed = true;
+    const BodyRecord& r = get(*state_, id);
+    for (uint32_t i = 0; i < r.particleCount; ++i) state_->x[r.firstParticle + i] += offset;
+    state_->find(id)->placed = true;
     updateMesh(id);
 }
 
 void World::setVelocity(BodyId id, Vec3 velocity) {
     requireFinite("velocity", velocity);
-    const BodyRecord& r = get(*data_, id);
-    for (uint32_t i = 0; i < r.particleCount; ++i) data_->v[r.firstParticle + i] = velocity;
-    data_->find(id)->halfKick = true;
+    const BodyRecord& r = get(*state_, id);
+    for (uint32_t i = 0; i < r.particleCount; ++i) state_->v[r.firstParticle + i] = velocity;
+    state_->find(id)->halfKick = true;
 }
 
 void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetVelocity) {
-    const BodyRecord& r = get(*data_, id);
+    const BodyRecord& r = get(*state_, id);
     if (positions.size() != r.particleCount)
         throw InputError("particles", "got " + std::to_string(positions.size()) +
                                           " positions, the body has " +
@@ -607,17 +639,17 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
             throw InputError("particles", "position " + std::to_string(i) + " is not finite");
     }
     for (uint32_t i = 0; i < r.particleCount; ++i) {
-        data_->x[r.firstParticle + i] = positions[i];
-        if (resetVelocity) data_->v[r.firstParticle + i] = {};
-        data_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
+        state_->x[r.firstParticle + i] = positions[i];
+        if (resetVelocity) state_->v[r.firstParticle + i] = {};
+        state_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
     }
-    if (resetVelocity) data_->find(id)->halfKick = true;
-    data_->find(id)->placed = true;
+    if (resetVelocity) state_->find(id)->halfKick = true;
+    state_->find(id)->placed = true;
     updateMesh(id);
 }
 
 void World::updateMesh(BodyId id) {
-    WorldData& w = *data_;
+    WorldData& w = *state_;
     const BodyRecord& r = get(w, id);
     const uint32_t dense = w.slots[id.index].dense;
     detail::updateNodes(w, dense, dense + 1);
@@ -627,47 +659,47 @@ void World::updateMesh(BodyId id) {
 }
 
 const WorldSettings& World::settings() const {
-    return data_->settings;
+    return state_->settings;
 }
 
 void World::setSettings(const WorldSettings& settings) {
     validate(settings);
-    data_->settings = settings;
-    data_->workers.setThreads(settings.threads);
+    state_->settings = settings;
+    state_->workers.setThreads(settings.threads);
 }
 
 void World::setTaskSystem(std::shared_ptr<TaskSystem> tasks) {
-    data_->workers.setTaskSystem(std::move(tasks));
+    state_->workers.setTaskSystem(std::move(tasks));
 }
 
 const std::shared_ptr<TaskSystem>& World::taskSystem() const {
-    return data_->workers.taskSystem();
+    return state_->workers.taskSystem();
 }
 
 void World::setMode(CollisionMode mode) {
-    WorldSettings s = data_->settings;
+    WorldSettings s = state_->settings;
     s.mode = mode;
     setSettings(s);
 }
 
 const Profile& World::profile() const {
-    return data_->profile;
+    return state_->profile;
 }
 uint64_t World::frame() const {
-    return data_->frame;
+    return state_->frame;
 }
 
 uint64_t World::stateHash() const {
     uint64_t h = 14695981039346656037ull;
-    h = fnv1a(h, data_->x.data(), data_->x.size() * sizeof(Vec3));
-    h = fnv1a(h, data_->v.data(), data_->v.size() * sizeof(Vec3));
+    h = fnv1a(h, state_->x.data(), state_->x.size() * sizeof(Vec3));
+    h = fnv1a(h, state_->v.data(), state_->v.size() * sizeof(Vec3));
     return h;
 }
 
 double World::kineticEnergy() const {
     double e = 0;
-    for (size_t i = 0; i < data_->v.size(); ++i)
-        e += 0.5 * double(lengthSquared(data_->v[i])) / double(data_->invMass[i]);
+    for (size_t i = 0; i < state_->v.size(); ++i)
+        e += 0.5 * double(lengthSquared(state_->v[i])) / double(state_->invMass[i]);
     return e;
 }
 

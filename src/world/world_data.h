@@ -120,3 +120,27 @@ inline Vec3 massWeightedMean(const BodyRecord& r, const std::vector<Vec3>& perPa
 }
 
 } // namespace ffd::detail
+
+namespace ffd {
+
+/// The world's data behind its public interface.
+struct World::State : detail::WorldData {};
+
+namespace detail {
+
+/// The library's own way in to a world's data (the stages' tests, the contact-cause
+/// instrumentation); the public interface is World's.
+struct WorldAccess {
+    static WorldData& data(World& world) { return *world.state_; }
+    static const WorldData& data(const World& world) { return *world.state_; }
+};
+
+inline WorldData& dataOf(World& world) {
+    return WorldAccess::data(world);
+}
+inline const WorldData& dataOf(const World& world) {
+    return WorldAccess::data(world);
+}
+
+} // namespace detail
+} // namespace ffd

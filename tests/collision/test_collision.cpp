@@ -406,7 +406,7 @@ public:
     // bodies a share of the particles moving the other way or spinning, so that a body's spread
     // (largest deviation from its mean velocity) is up to twice its speed.
     void unevenVelocities(std::mt19937& rng) {
-        detail::WorldData& w = world.data();
+        detail::WorldData& w = detail::dataOf(world);
         std::uniform_real_distribution<float> u(-1, 1);
         for (const detail::BodyRecord& r : w.bodies) {
             const int kind = int(rng() % 5);
@@ -451,7 +451,7 @@ std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, 
 
 TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
     Pool pool;
-    detail::WorldData& w = pool.world.data();
+    detail::WorldData& w = detail::dataOf(pool.world);
     w.substep = 1.0f / 120.0f;
     std::mt19937 rng(12345);
     std::uniform_int_distribution<int> count(2, 20);
@@ -487,7 +487,7 @@ TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
 // still cover every margin the narrow phase uses, so the three modes find identical contacts.
 TEST(CollisionModes, SweepPathWithUnevenVelocitiesFindsIdenticalContacts) {
     Pool pool;
-    detail::WorldData& w = pool.world.data();
+    detail::WorldData& w = detail::dataOf(pool.world);
     w.substep = 1.0f / 120.0f;
     ASSERT_EQ(w.settings.sweepThreshold, 64);
     std::mt19937 rng(2024);
@@ -525,7 +525,7 @@ TEST(CollisionModes, SweepFindsFastBodiesWithReversedParticles) {
                       test::sphereAt({4.0f * float(i % 8), 3.0f, 20.0f + 4.0f * float(i / 8)}));
     const BodyId a = world.addBody(test::ball(), test::sphereAt({0, 3, 0}, {50, 0, 0}));
     const BodyId b = world.addBody(test::ball(), test::sphereAt({3.4f, 3, 0}, {-50, 0, 0}));
-    detail::WorldData& w = world.data();
+    detail::WorldData& w = detail::dataOf(world);
     w.substep = 1.0f / 120.0f;
     for (BodyId id : {a, b}) {
         const detail::BodyRecord& r = *w.find(id);
@@ -539,7 +539,7 @@ TEST(CollisionModes, SweepFindsFastBodiesWithReversedParticles) {
 
 TEST(CollisionModes, SweepAndAllPairsAgree) {
     Pool pool;
-    detail::WorldData& w = pool.world.data();
+    detail::WorldData& w = detail::dataOf(pool.world);
     w.substep = 1.0f / 120.0f;
     std::mt19937 rng(9);
     for (int config = 0; config < 100; ++config) {
@@ -605,7 +605,7 @@ TEST(CollisionResponse, FiftySpheresInAColumnSettleWithoutPassingThrough) {
     }
     EXPECT_GT(closest, 0.75f);
     // No mesh vertex deeper than 10 % of the lattice spacing inside another object's boxes.
-    const detail::WorldData& w = world.data();
+    const detail::WorldData& w = detail::dataOf(world);
     float deepest = 0;
     for (int a = 0; a < n; ++a)
         for (int b = 0; b < n; ++b) {
@@ -695,7 +695,7 @@ TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
     const BodyId upper = world.addBody(ball(), sphereSettings({0.1f, 1.45f, 0}));
     const BodyId beside = world.addBody(ball(), sphereSettings({-3, 1.45f, 0}));
     for (int f = 0; f < 30; ++f) world.step();
-    const detail::WorldData& w = world.data();
+    const detail::WorldData& w = detail::dataOf(world);
     // Each claim as (body slot, box within the body) twice, and its depths.
     using Claim = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t, float, float>;
     auto claims = [&] {
@@ -735,7 +735,7 @@ TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
     scene.objects[0].count = 30;
     SceneBuild build = buildScene(scene);
     for (int f = 0; f < 40; ++f) build.world.step();
-    const detail::WorldData& w = build.world.data();
+    const detail::WorldData& w = detail::dataOf(build.world);
     const detail::CollisionState& s = w.collision;
     ASSERT_GT(s.all.size(), 100u); // the spheres lie on each other and the floor
     const detail::SolverSchedule& real = s.solver.schedule;

@@ -2,11 +2,12 @@
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
 #include "ffdaabb/world.h"
-#include "world/world_data.h"
 
 #include "test_support.h"
 
 #include <gtest/gtest.h>
+
+#include <set>
 
 using namespace ffd;
 using ffd::test::ball;
@@ -67,10 +68,12 @@ TEST(WorldApi, BodiesOfTheSameMeshShareOneModel) {
     const TriangleMesh mesh = ball();
     for (int i = 0; i < 100; ++i)
         world.addBody(mesh, at({float(i % 10) * 1.2f, 1, float(i / 10) * 1.2f}));
-    const detail::WorldData& data = world.data();
-    EXPECT_EQ(data.modelCache.size(), 1u);
-    const detail::BodyModel* first = data.bodies.front().model.get();
-    for (const auto& r : data.bodies) EXPECT_EQ(r.model.get(), first);
+    auto models = [&] {
+        std::set<const Lattice*> lattices;
+        for (const BodyId id : world.bodies()) lattices.insert(&world.lattice(id));
+        return lattices.size();
+    };
+    EXPECT_EQ(models(), 1u);
     // A different lattice setting is a different model; so is a different mesh.
     BodySettings other = at({0, 5, 0});
     other.lattice.targetCells = 60;
@@ -78,7 +81,61 @@ TEST(WorldApi, BodiesOfTheSameMeshShareOneModel) {
     TriangleMesh bigger = mesh;
     transform(bigger, 2.0f, {});
     world.addBody(bigger, at({0, 9, 0}));
-    EXPECT_EQ(data.modelCache.size(), 3u);
+    EXPECT_EQ(models(), 3u);
+}
+
+TEST(WorldApi, ContactsNameTheirBodiesAndPushThemApart) {
+    World world;
+    const TriangleMesh mesh = ball();
+    const BodyId lower = world.addBody(mesh, at({0, 0.5f, 0}));
+    const BodyId upper = world.addBody(mesh, at({0, 1.6f, 0}));
+    std::vector<ContactInfo> contacts;
+    world.contacts(contacts);
+    EXPECT_TRUE(contacts.empty()); // nothing stepped yet
+    int floor = 0, between = 0;
+    double lift = 0; // upward impulse on the upper ball, N s
+    for (int f = 0; f < 300; ++f) world.step();
+    world.contacts(contacts);
+    for (const ContactInfo& c : contacts) {
+        ASSERT_TRUE(world.isValid(c.bodyA));
+        EXPECT_NEAR(length(c.normal), 1.0f, 1e-4f);
+        EXPECT_GE(c.depth, 0.0f);
+        EXPECT_GE(c.impulse, 0.0f);
+        if (c.bodyB.isNull()) {
+            ++floor;
+            EXPECT_EQ(c.bodyA, lower); // only the lower ball touches the floor
+            EXPECT_GT(c.normal.y, 0.99f);
+            EXPECT_LT(c.point.y, 0.05f);
+        } else {
+            ++between;
+            ASSERT_TRUE(world.isValid(c.bodyB));
+            EXPECT_NE(c.bodyA, c.bodyB);
+            // The upper ball is pushed up off the lower one, the lower one down.
+            const float up = c.bodyA == upper ? 1.0f : -1.0f;
+            EXPECT_GT(c.normal.y * up, 0.5f);
+            lift += double(c.impulse * c.normal.y * up);
+        }
+    }
+    EXPECT_GT(floor, 0);
+    EXPECT_GT(between, 0);
+    // At rest, the impulses carry the upper ball's weight: over a substep, m g dt.
+    const double weight =
+        world.info(upper).mass * 9.81 * world.settings().frameStep / world.settings().substeps;
+    EXPECT_NEAR(lift, weight, 0.05 * weight);
+    // Removing a body drops the contacts, which name its particles.
+    world.removeBody(upper);
+    world.contacts(contacts);
+    EXPECT_TRUE(contacts.empty());
+}
+
+TEST(WorldApi, ParticleMassesSumToTheBodysMass) {
+    World world;
+    const BodyId id = world.addBody(ball(), at({0, 1, 0}));
+    const BodyInfo info = world.info(id);
+    double sum = 0;
+    for (uint32_t p = 0; p < info.particles; ++p) sum += world.particleMass(id, p);
+    EXPECT_NEAR(sum, info.mass, 1e-3 * info.mass);
+    EXPECT_THROW(world.particleMass(id, uint32_t(info.particles)), InputError);
 }
 
 TEST(WorldApi, SpansAndInfoDescribeTheBody) {
