@@ -49,6 +49,8 @@ int main() {
                 lowestVertex(world, pot), lowestVertex(world, ball), lowestVertex(world, a));
     const ffd::Profile& p = world.profile();
     std::printf("last frame: %.3f ms (dynamics %.3f, collisions %.3f), %d contacts\n", p.total,
-                p.dynamics, p.objectCollision + p.floor, p.contacts + p.floorContacts);
+                p.ms(ffd::TableColumn::Dynamics),
+                p.ms(ffd::TableColumn::ObjectsCollision) + p.ms(ffd::TableColumn::Floor),
+                p.contacts + p.floorContacts);
     return 0;
 }

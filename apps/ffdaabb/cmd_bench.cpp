@@ -110,12 +110,13 @@ std::string sideLabel(CollisionMode mode, int threads, bool byThreads) {
 struct ModeResult {
     std::string mode; ///< the side's label: its mode, "_Nt" with N threads when those differ
     int threads = 1;
-    std::vector<std::array<double, kStageCount>> frameMs;
-    double mean[kStageCount] = {}, median[kStageCount] = {};
+    std::vector<Timings> frameMs;
+    double mean[kTimingCount] = {}, median[kTimingCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxContactDepth = 0;
     uint64_t hash = 0;
     bool finite = true;
-    double fps() const { return mean[6] > 0 ? 1000.0 / mean[6] : 0; }
+    double fps() const { return mean[kTotalTiming] > 0 ? 1000.0 / mean[kTotalTiming] : 0; }
+    double column(TableColumn c) const { return mean[timingOf(c)]; }
 };
 
 struct SceneResult {
@@ -129,13 +130,11 @@ struct SceneResult {
     /// Frame rate of the second mode over the first's (enhanced / previous by default).
     double fpsRatio() const { return modes[1].fps() / modes[0].fps(); }
     /// Object collision time of the first mode over the second's.
-    double collisionRatio() const { return modes[0].mean[4] / std::max(1e-9, modes[1].mean[4]); }
+    double collisionRatio() const {
+        const TableColumn column = TableColumn::ObjectsCollision;
+        return modes[0].column(column) / std::max(1e-9, modes[1].column(column));
+    }
 };
-
-std::array<double, kStageCount> stages(const Profile& p) {
-    return {p.dynamics,        p.nodeUpdate, p.sphereTest, p.floor,
-            p.objectCollision, p.meshUpdate, p.total};
-}
 
 void summarise(ModeResult& m, int frames) {
     summariseStages(m.frameMs, m.mean, m.median);
@@ -146,7 +145,7 @@ void summarise(ModeResult& m, int frames) {
 
 void record(ModeResult& m, const World& w) {
     const Profile& p = w.profile();
-    m.frameMs.push_back(stages(p));
+    m.frameMs.push_back(timings(p));
     m.candidatePairs += p.candidatePairs;
     m.potentialPairs += p.potentialPairs;
     m.contacts += p.contacts;
@@ -296,6 +295,33 @@ bool plotFig4(const std::filesystem::path& csv, const std::filesystem::path& png
     return true;
 }
 
+// The paper's figure in a Table 1 column (NaN where the paper has none: dynamics).
+double paperColumn(const PaperRow& p, TableColumn c) {
+    switch (c) {
+    case TableColumn::MeshUpdating:
+        return p.mesh;
+    case TableColumn::MinMaxUpdating:
+        return p.minmax;
+    case TableColumn::DistanceCalculating:
+        return p.distance;
+    case TableColumn::Floor:
+        return p.floor;
+    case TableColumn::ObjectsCollision:
+        return p.objects_ms;
+    case TableColumn::Dynamics:
+        break;
+    }
+    return std::nan("");
+}
+
+// What each Table 1 column sums, from the stage table: "`a` + `b`".
+std::string columnStages(TableColumn c) {
+    std::string keys;
+    for (const StageInfo& s : stageTable())
+        if (s.column == c) keys += fmt::format("{}`{}`", keys.empty() ? "" : " + ", s.key);
+    return keys;
+}
+
 std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
     std::ostringstream md;
     md << "# Table 1: time per frame by stage (ms)\n\n";
@@ -305,45 +331,60 @@ std::string table1(const std::vector<SceneResult>& rs, const BenchOptions& o) {
                       o.frames, o.warmup, toString(o.modes[0]), o.threads[0],
                       o.threads[0] == 1 ? "" : "s", toString(o.modes[1]), o.threads[1],
                       o.threads[1] == 1 ? "" : "s");
-    md << "| scene | objects | source | mesh updating | min, max updating | distance calculating "
-          "| floor | objects collision | dynamics | total | fps |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    md << "| scene | objects | source |";
+    for (const TableColumnInfo& c : tableColumns()) md << " " << c.heading << " |";
+    md << " total | fps |\n|---|---|---|";
+    for (size_t c = 0; c < kTableColumnCount; ++c) md << "---|";
+    md << "---|---|\n";
     for (const SceneResult& r : rs) {
-        if (r.paper)
-            md << fmt::format("| {} | {} | paper (previous) | {:.2f} | {:.2f} | {:.2f} | {:.2f} | "
-                              "{:.2f} | – | {:.2f} | {:.2f} |\n",
-                              r.paper->label, r.paper->objects, r.paper->mesh, r.paper->minmax,
-                              r.paper->distance, r.paper->floor, r.paper->objects_ms,
-                              r.paper->total, 1000.0 / r.paper->total);
-        for (const ModeResult& m : r.modes)
-            md << fmt::format(
-                "| {} | {} | ours, {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} "
-                "| {:.3f} | {:.1f} |\n",
-                r.name, r.objects, m.mode, m.mean[5], m.mean[1], m.mean[2], m.mean[3], m.mean[4],
-                m.mean[0], m.mean[6], m.fps());
+        if (r.paper) {
+            md << fmt::format("| {} | {} | paper (previous) |", r.paper->label, r.paper->objects);
+            for (const TableColumnInfo& c : tableColumns()) {
+                const double ms = paperColumn(*r.paper, c.column);
+                md << (std::isnan(ms) ? std::string(" – |") : fmt::format(" {:.2f} |", ms));
+            }
+            md << fmt::format(" {:.2f} | {:.2f} |\n", r.paper->total, 1000.0 / r.paper->total);
+        }
+        for (const ModeResult& m : r.modes) {
+            md << fmt::format("| {} | {} | ours, {} |", r.name, r.objects, m.mode);
+            for (const TableColumnInfo& c : tableColumns())
+                md << fmt::format(" {:.3f} |", m.column(c.column));
+            md << fmt::format(" {:.3f} | {:.1f} |\n", m.mean[kTotalTiming], m.fps());
+        }
     }
-    md << "\nColumns: mesh updating = `mesh_update`; min, max updating = `node_update` (FFD-AABB "
-          "nodes and per-object bounds); distance calculating = `sphere_test` (0 in `previous`, "
-          "which has no phase 1); floor = `floor`; objects collision = `object_collision` (spatial "
-          "hash, box pairs, response); dynamics = `dynamics` (not in the paper's table).\n";
+    md << "\nColumns, each the sum of the step's stages (ffdaabb/profile.h):";
+    for (const TableColumnInfo& c : tableColumns())
+        md << fmt::format(" {} = {}{};", c.heading, columnStages(c.column),
+                          c.column == TableColumn::DistanceCalculating
+                              ? " (0 in `previous`, which has no phase 1)"
+                          : c.column == TableColumn::Dynamics ? " (not in the paper's table)"
+                                                              : "");
+    md.seekp(-1, std::ios_base::cur);
+    md << ".\n";
     return md.str();
 }
 
 std::string table1Csv(const std::vector<SceneResult>& rs) {
     std::ostringstream csv;
-    csv << "scene,objects,mode,mesh_update,node_update,sphere_test,floor,object_collision,"
-           "dynamics,total,total_median,fps\n";
+    csv << "scene,objects,mode";
+    for (const TableColumnInfo& c : tableColumns()) csv << "," << c.key;
+    csv << ",total,total_median,fps\n";
     for (const SceneResult& r : rs) {
-        if (r.paper)
-            csv << fmt::format("{},{},paper_previous,{},{},{},{},{},,{},,{:.3f}\n", r.name,
-                               r.paper->objects, r.paper->mesh, r.paper->minmax, r.paper->distance,
-                               r.paper->floor, r.paper->objects_ms, r.paper->total,
-                               1000.0 / r.paper->total);
-        for (const ModeResult& m : r.modes)
-            csv << fmt::format(
-                "{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.2f}\n", r.name,
-                r.objects, m.mode, m.mean[5], m.mean[1], m.mean[2], m.mean[3], m.mean[4], m.mean[0],
-                m.mean[6], m.median[6], m.fps());
+        if (r.paper) {
+            csv << fmt::format("{},{},paper_previous", r.name, r.paper->objects);
+            for (const TableColumnInfo& c : tableColumns()) {
+                const double ms = paperColumn(*r.paper, c.column);
+                csv << (std::isnan(ms) ? std::string(",") : fmt::format(",{}", ms));
+            }
+            csv << fmt::format(",{},,{:.3f}\n", r.paper->total, 1000.0 / r.paper->total);
+        }
+        for (const ModeResult& m : r.modes) {
+            csv << fmt::format("{},{},{}", r.name, r.objects, m.mode);
+            for (const TableColumnInfo& c : tableColumns())
+                csv << fmt::format(",{:.4f}", m.column(c.column));
+            csv << fmt::format(",{:.4f},{:.4f},{:.2f}\n", m.mean[kTotalTiming],
+                               m.median[kTotalTiming], m.fps());
+        }
     }
     return csv.str();
 }
@@ -434,10 +475,10 @@ int run(const BenchFlags& flags) {
         j["cells_per_object"] = r.cellsPerObject;
         for (const ModeResult& m : r.modes) {
             nlohmann::json mj;
-            for (int s = 0; s < kStageCount; ++s) {
-                mj["stage_ms"][kStageNames[s]] = m.mean[s];
-                mj["stage_ms_median"][kStageNames[s]] = m.median[s];
-            }
+            mj["stage_ms"] = stagesJson(m.mean);
+            mj["stage_ms_median"] = stagesJson(m.median);
+            mj["table1_ms"] = tableColumnsJson(m.mean);
+            mj["table1_ms_median"] = tableColumnsJson(m.median);
             mj["frames_per_second"] = m.fps();
             mj["threads"] = m.threads;
             mj["candidate_pairs"] = m.candidatePairs;

@@ -103,9 +103,12 @@ int run(const RunCommandOptions& o) {
                r.cells, double(r.cells) / r.objects, r.particles, r.nodes, r.buildMs);
     fmt::print("  run         {} frames ({:.2f} s simulated) after {} warm-up, {:.2f} s wall\n",
                r.frames, r.frames * scene.world.frameStep, r.warmup, r.wallSeconds);
-    fmt::print("  {:<18} {:>10} {:>10}\n", "stage (ms/frame)", "mean", "median");
-    for (int s = 0; s < kStageCount; ++s)
-        fmt::print("  {:<18} {:>10.3f} {:>10.3f}\n", kStageNames[s], r.meanMs[s], r.medianMs[s]);
+    fmt::print("  {:<22} {:>10} {:>10}\n", "stage (ms/frame)", "mean", "median");
+    for (const StageInfo& s : stageTable())
+        fmt::print("  {:<22} {:>10.3f} {:>10.3f}\n", s.key, r.meanMs[timingOf(s.stage)],
+                   r.medianMs[timingOf(s.stage)]);
+    fmt::print("  {:<22} {:>10.3f} {:>10.3f}\n", "total", r.meanMs[kTotalTiming],
+               r.medianMs[kTotalTiming]);
     fmt::print("  frames per second  {:.1f}\n", r.framesPerSecond());
     fmt::print("  per frame (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
                "{:.1f} object contacts, {:.1f} floor contacts\n",

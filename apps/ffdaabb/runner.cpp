@@ -14,18 +14,33 @@
 
 namespace ffd::cli {
 
-namespace {
+namespace {} // namespace
 
-std::array<double, kStageCount> stages(const Profile& p) {
-    return {p.dynamics,        p.nodeUpdate, p.sphereTest, p.floor,
-            p.objectCollision, p.meshUpdate, p.total};
+Timings timings(const Profile& p) {
+    Timings t{};
+    for (const StageInfo& s : stageTable()) t[size_t(timingOf(s.stage))] = p.ms(s.stage);
+    for (const TableColumnInfo& c : tableColumns()) t[size_t(timingOf(c.column))] = p.ms(c.column);
+    t[kTotalTiming] = p.total;
+    return t;
 }
 
-} // namespace
+nlohmann::json stagesJson(const double (&ms)[kTimingCount]) {
+    nlohmann::json j;
+    for (const StageInfo& s : stageTable()) j[s.key] = ms[timingOf(s.stage)];
+    j["total"] = ms[kTotalTiming];
+    return j;
+}
 
-void summariseStages(const std::vector<std::array<double, kStageCount>>& frameMs,
-                     double (&mean)[kStageCount], double (&median)[kStageCount]) {
-    for (int s = 0; s < kStageCount; ++s) {
+nlohmann::json tableColumnsJson(const double (&ms)[kTimingCount]) {
+    nlohmann::json j;
+    for (const TableColumnInfo& c : tableColumns()) j[c.key] = ms[timingOf(c.column)];
+    j["total"] = ms[kTotalTiming];
+    return j;
+}
+
+void summariseStages(const std::vector<Timings>& frameMs, double (&mean)[kTimingCount],
+                     double (&median)[kTimingCount]) {
+    for (int s = 0; s < kTimingCount; ++s) {
         std::vector<double> v;
         v.reserve(frameMs.size());
         for (const auto& f : frameMs) v.push_back(f[size_t(s)]);
@@ -78,7 +93,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
             sample(f + 1);
         if (f >= options.warmup) {
             const Profile& p = build.world.profile();
-            r.frameMs.push_back(stages(p));
+            r.frameMs.push_back(timings(p));
             r.candidatePairs += p.candidatePairs;
             r.potentialPairs += p.potentialPairs;
             r.contacts += p.contacts;
@@ -116,11 +131,6 @@ nlohmann::json interpenetrationJson(const RunResult& r) {
 }
 
 nlohmann::json statsJson(const RunResult& r) {
-    nlohmann::json stage, med;
-    for (int s = 0; s < kStageCount; ++s) {
-        stage[kStageNames[s]] = r.meanMs[s];
-        med[kStageNames[s]] = r.medianMs[s];
-    }
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.stateHash));
     return {{"scene", r.scene},
@@ -138,8 +148,10 @@ nlohmann::json statsJson(const RunResult& r) {
             {"warmup_frames", r.warmup},
             {"threads", r.threads},
             {"seed", r.seed},
-            {"stage_ms", stage},
-            {"stage_ms_median", med},
+            {"stage_ms", stagesJson(r.meanMs)},
+            {"stage_ms_median", stagesJson(r.medianMs)},
+            {"table1_ms", tableColumnsJson(r.meanMs)},
+            {"table1_ms_median", tableColumnsJson(r.medianMs)},
             {"frames_per_second", r.framesPerSecond()},
             {"candidate_pairs", r.candidatePairs},
             {"potential_pairs", r.potentialPairs},

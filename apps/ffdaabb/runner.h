@@ -15,10 +15,24 @@
 
 namespace ffd::cli {
 
-/// Stage names in the order of DESIGN.md (also the JSON keys).
-inline constexpr const char* kStageNames[] = {
-    "dynamics", "node_update", "sphere_test", "floor", "object_collision", "mesh_update", "total"};
-inline constexpr int kStageCount = 7;
+/// A frame's timings, ms: every stage (ffd::stageTable's order), then every column of the
+/// paper's Table 1 (ffd::tableColumns'), then the whole frame.
+inline constexpr int kTimingCount = int(kStageCount + kTableColumnCount) + 1;
+using Timings = std::array<double, kTimingCount>;
+constexpr int timingOf(Stage stage) {
+    return int(stage);
+}
+constexpr int timingOf(TableColumn column) {
+    return int(kStageCount) + int(column);
+}
+inline constexpr int kTotalTiming = kTimingCount - 1;
+
+Timings timings(const Profile& profile);
+
+/// The `stage_ms` (every stage and the total) and `table1_ms` (every Table 1 column and the
+/// total) objects of the JSON the commands write, from one summary (means or medians).
+nlohmann::json stagesJson(const double (&ms)[kTimingCount]);
+nlohmann::json tableColumnsJson(const double (&ms)[kTimingCount]);
 
 struct RunOptions {
     int frames = 300;
@@ -35,8 +49,8 @@ struct RunResult {
     uint32_t seed = 0;
     size_t vertices = 0, triangles = 0, cells = 0, particles = 0, nodes = 0;
     double buildMs = 0, wallSeconds = 0;
-    std::vector<std::array<double, kStageCount>> frameMs; ///< per timed frame
-    double meanMs[kStageCount] = {}, medianMs[kStageCount] = {};
+    std::vector<Timings> frameMs; ///< per timed frame
+    double meanMs[kTimingCount] = {}, medianMs[kTimingCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, floorContacts = 0; ///< means
     double maxContactDepth = 0; ///< the pipeline's deepest contact violation (Profile)
     /// The meshes' interpenetration: the worst over the samples (keepWorst), its deepest vertex
@@ -46,13 +60,15 @@ struct RunResult {
     bench::Interpenetration interpenetration;
     uint64_t stateHash = 0;
     bool finite = true;
-    double framesPerSecond() const { return meanMs[6] > 0 ? 1000.0 / meanMs[6] : 0; }
+    double framesPerSecond() const {
+        return meanMs[kTotalTiming] > 0 ? 1000.0 / meanMs[kTotalTiming] : 0;
+    }
 };
 
-/// The mean and the true median (bench/common/sample_stats.h) of each stage over the frames:
-/// the one summary behind every `stage_ms` and `stage_ms_median` the commands write.
-void summariseStages(const std::vector<std::array<double, kStageCount>>& frameMs,
-                     double (&mean)[kStageCount], double (&median)[kStageCount]);
+/// The mean and the true median (bench/common/sample_stats.h) of each timing over the frames:
+/// the one summary behind every `stage_ms`, `table1_ms` and their medians the commands write.
+void summariseStages(const std::vector<Timings>& frameMs, double (&mean)[kTimingCount],
+                     double (&median)[kTimingCount]);
 
 /// Builds the scene and steps it; `build` receives the built scene (to export meshes etc.).
 RunResult runScene(const Scene& scene, const RunOptions& options,

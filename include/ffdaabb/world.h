@@ -14,6 +14,7 @@
 #include "ffdaabb/lattice.h"
 #include "ffdaabb/math.h"
 #include "ffdaabb/mesh.h"
+#include "ffdaabb/profile.h"
 #include "ffdaabb/tasks.h"
 
 #include <array>
@@ -114,30 +115,6 @@ struct WorldSettings {
     /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
     /// recovery").
     float overlapRecoverySpeed = 2.0f;
-};
-
-/// Stage timings (milliseconds, summed over the substeps of the last frame) and counters of
-/// the last frame. The stage names match the CLI's JSON keys and the benchmark tables.
-struct Profile {
-    double dynamics = 0;        ///< shape matching / springs, forces, integration
-    double nodeUpdate = 0;      ///< FFD-AABB nodes from particles, per-object min/max
-    double sphereTest = 0;      ///< bounding spheres and their pair test (enhanced only)
-    double floor = 0;           ///< floor contacts
-    double objectCollision = 0; ///< spatial hash + box pairs + contact solve
-    double meshUpdate = 0;      ///< embedded mesh vertices
-    double total = 0;
-
-    int candidatePairs = 0; ///< object pairs passed to the spatial hash (last substep)
-    int potentialPairs = 0; ///< node/box pairs tested in the narrow phase (last substep)
-    int contacts = 0;       ///< object contacts (last substep)
-    int floorContacts = 0;  ///< floor contacts (last substep)
-    int overlapPairs = 0;   ///< pairs placed overlapping and not yet apart (last substep)
-    int wholePairs = 0;     ///< of those, pushed apart as whole bodies (last substep)
-    /// Deepest contact violation left after the response (a box node inside another object's
-    /// cell box or below the floor), metres, over the frame's substeps: the pipeline's own
-    /// measure, not the meshes' (a node inside a box need not be a vertex inside a mesh, nor
-    /// the reverse); the meshes' interpenetration is `ffdaabb run`'s `interpenetration`.
-    float maxContactDepth = 0;
 };
 
 /// Rest-pose statistics of a body's shared model.

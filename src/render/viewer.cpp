@@ -59,22 +59,16 @@ void releaseGlfw() {
     if (--gGlfwUsers == 0) glfwTerminate();
 }
 
-/// A stage of the Profile, for the table and the plot.
-struct Stage {
-    const char* name;
-    double Profile::*field;
-    ImU32 colour;
+/// The plot's colour of each Table 1 column (TableColumn order); a stage takes its column's.
+const ImU32 kColumnColours[kTableColumnCount] = {
+    IM_COL32(190, 110, 220, 255), // mesh updating
+    IM_COL32(90, 150, 230, 255),  // min, max updating
+    IM_COL32(240, 210, 40, 255),  // distance calculating
+    IM_COL32(160, 160, 160, 255), // floor
+    IM_COL32(80, 200, 110, 255),  // objects collision
+    IM_COL32(230, 90, 70, 255),   // dynamics
 };
-
-const Stage kStages[] = {
-    {"dynamics", &Profile::dynamics, IM_COL32(230, 90, 70, 255)},
-    {"node_update", &Profile::nodeUpdate, IM_COL32(90, 150, 230, 255)},
-    {"sphere_test", &Profile::sphereTest, IM_COL32(240, 210, 40, 255)},
-    {"floor", &Profile::floor, IM_COL32(160, 160, 160, 255)},
-    {"object_collision", &Profile::objectCollision, IM_COL32(80, 200, 110, 255)},
-    {"mesh_update", &Profile::meshUpdate, IM_COL32(190, 110, 220, 255)},
-    {"total", &Profile::total, IM_COL32(255, 255, 255, 255)},
-};
+const ImU32 kTotalColour = IM_COL32(255, 255, 255, 255);
 
 constexpr size_t kHistory = 240;
 constexpr float kDragStiffness = 60.0f;     // 1/s^2: pull per metre of offset, per kg of body
@@ -333,16 +327,20 @@ struct Viewer::Impl {
         for (const Profile& p : history) top = std::max(top, p.total);
         top *= 1.1;
         std::vector<ImVec2> points;
-        for (const Stage& s : kStages) {
+        auto line = [&](auto&& ms, ImU32 colour) {
             points.clear();
             for (size_t i = 0; i < history.size(); ++i) {
                 const float fx = float(i) / float(kHistory - 1);
-                const float fy = float(history[i].*s.field / top);
+                const float fy = float(ms(history[i]) / top);
                 points.emplace_back(p0.x + fx * size.x, p1.y - fy * size.y);
             }
             if (points.size() >= 2)
-                dl->AddPolyline(points.data(), int(points.size()), s.colour, 0, 1.5f);
-        }
+                dl->AddPolyline(points.data(), int(points.size()), colour, 0, 1.5f);
+        };
+        for (const TableColumnInfo& c : tableColumns())
+            line([&](const Profile& p) { return p.ms(c.column); },
+                 kColumnColours[size_t(c.column)]);
+        line([](const Profile& p) { return p.total; }, kTotalColour);
         char label[48];
         std::snprintf(label, sizeof label, "%.2f ms", top);
         dl->AddText(ImVec2(p0.x + 4, p0.y + 2), IM_COL32(220, 220, 220, 255), label);
@@ -392,18 +390,22 @@ struct Viewer::Impl {
             ImGui::TableSetupColumn("ms");
             ImGui::TableSetupColumn("mean ms");
             ImGui::TableHeadersRow();
-            for (const Stage& s : kStages) {
+            auto row = [&](const char* name, ImU32 colour, auto&& ms) {
                 double mean = 0;
-                for (const Profile& p : history) mean += p.*s.field;
+                for (const Profile& p : history) mean += ms(p);
                 mean /= double(std::max<size_t>(history.size(), 1));
                 ImGui::TableNextRow();
                 ImGui::TableNextColumn();
-                ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(s.colour), "%s", s.name);
+                ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(colour), "%s", name);
                 ImGui::TableNextColumn();
-                ImGui::Text("%.3f", history.empty() ? 0.0 : history.back().*s.field);
+                ImGui::Text("%.3f", history.empty() ? 0.0 : ms(history.back()));
                 ImGui::TableNextColumn();
                 ImGui::Text("%.3f", mean);
-            }
+            };
+            for (const StageInfo& s : stageTable())
+                row(s.key, kColumnColours[size_t(s.column)],
+                    [&](const Profile& p) { return p.ms(s.stage); });
+            row("total", kTotalColour, [](const Profile& p) { return p.total; });
             ImGui::EndTable();
         }
         profilePlot();

@@ -418,6 +418,60 @@ void dynamicsStage(WorldData& w, float dt) {
 
 } // namespace
 
+namespace {
+
+// Runs one stage and adds its time to the profile's field.
+template <class F>
+void timed(Profile& profile, Stage stage, F&& run) {
+    const auto start = Clock::now();
+    run();
+    profile.stageMs[size_t(stage)] += msSince(start);
+}
+
+void updateNodesStage(WorldData& w) {
+    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+        detail::updateNodes(w, first, last);
+    });
+}
+
+// Phase 1 in enhanced mode; the other modes pass every pair on (and spend nothing here).
+void sphereTestStage(WorldData& w) {
+    if (w.settings.mode == CollisionMode::Enhanced) {
+        timed(w.profile, Stage::SphereTest, [&] { detail::sphereTest(w); });
+        w.profile.candidatePairs = int(w.collision.pairs.size());
+    } else if (w.settings.mode != CollisionMode::None) {
+        const size_t n = w.bodies.size();
+        w.profile.candidatePairs = int(n * (n - (n > 0)) / 2);
+    }
+}
+
+void positionStage(WorldData& w, float dt) {
+    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+        for (size_t b = first; b < last; ++b) {
+            const BodyRecord& r = w.bodies[b];
+            for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+                w.x[i] += w.v[i] * dt;
+        }
+    });
+}
+
+void meshStage(WorldData& w) {
+    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
+        for (size_t b = first; b < last; ++b) {
+            const BodyRecord& r = w.bodies[b];
+            deformVertices(r.model->lattice,
+                           std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
+                           std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
+        }
+    });
+}
+
+} // namespace
+
+// The stages in the order they run (ffdaabb/profile.h's table): each substep moves the
+// lattices, finds the contacts on the current positions, speculatively (within what the bodies
+// can travel this substep), and responds partly before the positions move and partly after
+// (collision/contact.h).
 void World::step() {
     WorldData& w = *state_;
     Profile& prof = w.profile;
@@ -427,78 +481,29 @@ void World::step() {
     w.substep = dt;
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
-        auto t = Clock::now();
-        dynamicsStage(w, dt);
-        prof.dynamics += msSince(t);
-
-        t = Clock::now();
-        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-            detail::updateNodes(w, first, last);
+        timed(prof, Stage::Dynamics, [&] { dynamicsStage(w, dt); });
+        timed(prof, Stage::NodeUpdate, [&] { updateNodesStage(w); });
+        timed(prof, Stage::OverlapRecovery, [&] {
+            w.collision.pairs.clear();
+            detail::trackOverlaps(w);
+            detail::pushWholePairsApart(w, dt);
         });
-        prof.nodeUpdate += msSince(t);
-
-        w.collision.pairs.clear();
-        t = Clock::now();
-        detail::trackOverlaps(w);
-        detail::pushWholePairsApart(w, dt);
-        prof.sphereTest += msSince(t);
-        if (w.settings.mode == CollisionMode::Enhanced) {
-            t = Clock::now();
-            detail::sphereTest(w);
-            prof.sphereTest += msSince(t);
-            prof.candidatePairs = int(w.collision.pairs.size());
-        } else if (w.settings.mode != CollisionMode::None) {
-            const size_t n = w.bodies.size();
-            prof.candidatePairs = int(n * (n - (n > 0)) / 2);
-        }
-
-        // Contacts are found on the current positions, speculatively (within what the bodies
-        // can travel this substep); part of the response acts before the positions move and
-        // part after (collision/contact.h).
-        t = Clock::now();
-        detail::findAllObjectContacts(w);
-        prof.objectCollision += msSince(t);
-
-        t = Clock::now();
-        detail::findFloorContacts(w);
-        detail::settleOverlaps(w);
-        prof.overlapPairs = int(w.collision.overlaps.size());
-        prof.wholePairs = int(w.collision.wholePairs.size());
-        prof.floor += msSince(t);
-
-        t = Clock::now();
-        detail::respondBeforeMove(w, dt);
-        prof.objectCollision += msSince(t);
-
-        t = Clock::now();
-        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-            for (size_t b = first; b < last; ++b) {
-                const BodyRecord& r = w.bodies[b];
-                for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-                    w.x[i] += w.v[i] * dt;
-            }
+        sphereTestStage(w);
+        timed(prof, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(w); });
+        timed(prof, Stage::FloorContacts, [&] { detail::findFloorContacts(w); });
+        timed(prof, Stage::OverlapSettling, [&] {
+            detail::settleOverlaps(w);
+            prof.overlapPairs = int(w.collision.overlaps.size());
+            prof.wholePairs = int(w.collision.wholePairs.size());
         });
-        prof.dynamics += msSince(t);
-
-        t = Clock::now();
-        deepest = maxNum(deepest, detail::respondAfterMove(w, dt));
-        prof.objectCollision += msSince(t);
+        timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(w, dt); });
+        timed(prof, Stage::PositionUpdate, [&] { positionStage(w, dt); });
+        timed(prof, Stage::ResponseAfterMove,
+              [&] { deepest = maxNum(deepest, detail::respondAfterMove(w, dt)); });
     }
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
-
-    if (w.settings.meshUpdate) {
-        const auto t = Clock::now();
-        forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-            for (size_t b = first; b < last; ++b) {
-                const BodyRecord& r = w.bodies[b];
-                deformVertices(r.model->lattice,
-                               std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
-                               std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
-            }
-        });
-        prof.meshUpdate = msSince(t);
-    }
+    if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { meshStage(w); });
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;

@@ -1,4 +1,5 @@
 // ffdaabb run / bench / render: contract keys, exports, bad scenes and flags.
+#include "ffdaabb/profile.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,10 @@
 #include <regex>
 
 using namespace ffd::test;
+using ffd::StageInfo;
+using ffd::stageTable;
+using ffd::TableColumnInfo;
+using ffd::tableColumns;
 namespace fs = std::filesystem;
 
 TEST(CliRun, StatsHaveEveryContractKeyAndObjExportHasOneGroupPerBody) {
@@ -21,9 +26,21 @@ TEST(CliRun, StatsHaveEveryContractKeyAndObjExportHasOneGroupPerBody) {
                             "stage_ms", "frames_per_second", "candidate_pairs", "contacts",
                             "max_contact_depth", "interpenetration", "state_hash", "finite"})
         EXPECT_TRUE(j.contains(key)) << key;
-    for (const char* stage : {"dynamics", "node_update", "sphere_test", "floor", "object_collision",
-                              "mesh_update", "total"})
-        EXPECT_TRUE(j["stage_ms"].contains(stage)) << stage;
+    // Every stage of the library's table, and every Table 1 column as the sum of its stages.
+    ASSERT_TRUE(j["stage_ms"].contains("total"));
+    double stages = 0;
+    for (const StageInfo& s : stageTable()) {
+        ASSERT_TRUE(j["stage_ms"].contains(s.key)) << s.key;
+        stages += j["stage_ms"][s.key].get<double>();
+    }
+    EXPECT_LE(stages, j["stage_ms"]["total"].get<double>() * 1.0001);
+    for (const TableColumnInfo& c : tableColumns()) {
+        ASSERT_TRUE(j["table1_ms"].contains(c.key)) << c.key;
+        double sum = 0;
+        for (const StageInfo& s : stageTable())
+            if (s.column == c.column) sum += j["stage_ms"][s.key].get<double>();
+        EXPECT_NEAR(j["table1_ms"][c.key].get<double>(), sum, 1e-9 + 1e-9 * sum) << c.key;
+    }
     EXPECT_EQ(j["objects"].get<int>(), 12);
     EXPECT_EQ(j["vertices"].get<int>(), 12 * 162);
     EXPECT_EQ(j["frames"].get<int>(), 20);

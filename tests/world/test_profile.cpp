@@ -1,0 +1,106 @@
+// The stage table (ffdaabb/profile.h): every stage timed into its own entry, the paper's Table 1
+// columns as sums of stages, and the docs listing every stage.
+#include "ffdaabb/profile.h"
+#include "ffdaabb/world.h"
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+using namespace ffd;
+using ffd::test::ball;
+
+namespace {
+
+World pile(CollisionMode mode) {
+    WorldSettings ws;
+    ws.mode = mode;
+    World world(ws);
+    BodySettings s;
+    s.lattice.targetCells = 38;
+    for (int i = 0; i < 8; ++i) {
+        s.position = {float(i % 2) * 0.5f, 1.0f + 1.9f * float(i / 2), float(i % 3) * 0.3f};
+        world.addBody(ball(), s);
+    }
+    return world;
+}
+
+} // namespace
+
+TEST(Profile, TheTablesAreInOrderWithDistinctKeys) {
+    std::set<std::string> keys;
+    size_t i = 0;
+    for (const StageInfo& s : stageTable()) {
+        EXPECT_EQ(size_t(s.stage), i++);
+        EXPECT_TRUE(keys.insert(s.key).second) << s.key;
+        EXPECT_EQ(&info(s.stage), &s);
+        EXPECT_GT(std::string(s.summary).size(), 10u);
+    }
+    EXPECT_EQ(i, kStageCount);
+    std::set<std::string> columns;
+    i = 0;
+    for (const TableColumnInfo& c : tableColumns()) {
+        EXPECT_EQ(size_t(c.column), i++);
+        EXPECT_TRUE(columns.insert(c.key).second) << c.key;
+        int stages = 0;
+        for (const StageInfo& s : stageTable()) stages += s.column == c.column;
+        EXPECT_GT(stages, 0) << c.key << " sums no stage";
+    }
+}
+
+TEST(Profile, EveryStageIsTimedAndTheColumnsAreTheirSums) {
+    World world = pile(CollisionMode::Enhanced);
+    for (int f = 0; f < 90; ++f) world.step();
+    const Profile& p = world.profile();
+    ASSERT_GT(p.contacts, 0);
+    double sum = 0;
+    for (const StageInfo& s : stageTable()) {
+        EXPECT_GE(p.ms(s.stage), 0.0) << s.key;
+        sum += p.ms(s.stage);
+    }
+    // The stages that always work in a pile of touching bodies take time.
+    for (Stage s : {Stage::Dynamics, Stage::NodeUpdate, Stage::SphereTest, Stage::ObjectContacts,
+                    Stage::FloorContacts, Stage::ResponseBeforeMove, Stage::PositionUpdate,
+                    Stage::ResponseAfterMove, Stage::MeshUpdate})
+        EXPECT_GT(p.ms(s), 0.0) << info(s).key;
+    EXPECT_LE(sum, p.total);
+    double columns = 0;
+    for (const TableColumnInfo& c : tableColumns()) {
+        double stages = 0;
+        for (const StageInfo& s : stageTable())
+            if (s.column == c.column) stages += p.ms(s.stage);
+        EXPECT_EQ(p.ms(c.column), stages) << c.key;
+        columns += p.ms(c.column);
+    }
+    EXPECT_NEAR(columns, sum, 1e-9 * sum);
+}
+
+TEST(Profile, ThePreviousMethodSpendsNothingOnDistanceCalculating) {
+    World world = pile(CollisionMode::Previous);
+    for (int f = 0; f < 30; ++f) world.step();
+    EXPECT_EQ(world.profile().ms(TableColumn::DistanceCalculating), 0.0);
+    EXPECT_GT(world.profile().ms(TableColumn::ObjectsCollision), 0.0);
+}
+
+TEST(Profile, TheArchitectureDocListsEveryStage) {
+    std::ifstream in(std::string(FFD_SOURCE_DIR) + "/docs/ARCHITECTURE.md");
+    ASSERT_TRUE(in) << "docs/ARCHITECTURE.md";
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string doc = text.str();
+    const size_t from = doc.find("## The step"), to = doc.find("```mermaid", from);
+    ASSERT_NE(from, std::string::npos);
+    const std::string section = doc.substr(from, to - from);
+    // A line of the list starts with the stage's key (indented within the substep).
+    for (const StageInfo& s : stageTable()) {
+        const std::string key = std::string(s.key) + " ";
+        EXPECT_TRUE(section.find("\n  " + key) != std::string::npos ||
+                    section.find("\n" + key) != std::string::npos)
+            << s.key << " is missing from the step's list in docs/ARCHITECTURE.md";
+    }
+}
