@@ -34,6 +34,7 @@
 // rigid phase after it, counted impacts twice and made resting bodies hop.
 #pragma once
 
+#include "collision/body.h"
 #include "collision/narrow_phase.h"
 #include "collision/spatial_hash.h"
 #include "ffdaabb/math.h"
@@ -250,6 +251,7 @@ struct BoxPairClaim {
 
 /// Collision buffers kept between steps (no steady-state allocation).
 struct CollisionState {
+    std::vector<CollisionBody> bodies; ///< per dense body index, in the world's order
     std::vector<CandidatePair> pairs;
     std::vector<uint32_t> partnerStart, partners; ///< CSR of each body's candidate partners
     std::vector<uint8_t> isCandidate;             ///< per body

@@ -1,7 +1,6 @@
 #include "collision/overlap_recovery.h"
 
 #include "collision/pipeline.h"
-#include "world/world_data.h"
 
 #include <algorithm>
 #include <array>
@@ -31,9 +30,9 @@ auto findPair(Pairs& overlaps, uint32_t a, uint32_t b) {
 
 // Whether `point` lies within `grow` of the bounds of one of the body's deformed lattice cells
 // (interior ones too: the cell boxes cover only the surface, and a centre lies in the interior).
-bool insideCells(const WorldData& w, const BodyRecord& r, Vec3 point, float grow) {
+bool insideCells(const CollisionWorld& w, const CollisionBody& r, Vec3 point, float grow) {
     if (!r.bounds.contains(point, r.cellSize + grow)) return false;
-    const Lattice& L = r.model->lattice;
+    const Lattice& L = *r.lattice;
     const Vec3* x = w.x.data() + r.firstParticle;
     for (const std::array<uint32_t, 8>& corners : L.cellParticles) {
         Aabb cell;
@@ -57,15 +56,15 @@ Vec3 pairDirection(uint32_t a, uint32_t b) {
 
 } // namespace
 
-void trackOverlaps(WorldData& w) {
+void trackOverlaps(CollisionWorld& w) {
     CollisionState& s = w.collision;
     s.wholePairs.clear();
     bool placed = false;
-    for (const BodyRecord& r : w.bodies) placed |= r.placed;
+    for (const CollisionBody& r : w.bodies) placed |= r.placed;
     if (!placed && s.overlaps.empty()) return;
     if (w.settings.overlapRecoverySpeed == 0) {
         s.overlaps.clear();
-        for (BodyRecord& r : w.bodies) r.placed = false;
+        for (CollisionBody& r : w.bodies) r.placed = false;
         return;
     }
     computeSpheres(w);
@@ -80,7 +79,7 @@ void trackOverlaps(WorldData& w) {
         for (const CandidatePair& p : found)
             if (w.bodies[p.a].placed || w.bodies[p.b].placed) added.push_back({p.a, p.b});
         for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-            const BodyRecord& r = w.bodies[b];
+            const CollisionBody& r = w.bodies[b];
             if (w.settings.floor && r.placed &&
                 r.bounds.lo.y < w.settings.floorHeight + skinOf(w, r))
                 added.push_back({b, kFloorBody});
@@ -93,7 +92,7 @@ void trackOverlaps(WorldData& w) {
         std::set_union(s.overlaps.begin(), s.overlaps.end(), added.begin(), added.end(),
                        std::back_inserter(merged), byKey);
         s.overlaps.swap(merged);
-        for (BodyRecord& r : w.bodies) r.placed = false;
+        for (CollisionBody& r : w.bodies) r.placed = false;
     }
     // Centres of mass of the bodies in object pairs (NaN: not needed).
     s.overlapCentre.assign(w.bodies.size(), Vec3{NAN, NAN, NAN});
@@ -103,8 +102,8 @@ void trackOverlaps(WorldData& w) {
         for (uint32_t i : {p.a, p.b})
             if (std::isnan(s.overlapCentre[i].x))
                 s.overlapCentre[i] = massWeightedMean(w.bodies[i], w.x);
-        const BodyRecord& A = w.bodies[p.a];
-        const BodyRecord& B = w.bodies[p.b];
+        const CollisionBody& A = w.bodies[p.a];
+        const CollisionBody& B = w.bodies[p.b];
         // A centre inside the other's cells: the pair does overlap deeply. Once it has
         // overlapped, it stays whole until neither centre is within a cell of the other's
         // cells, so that the object contacts take over shallow overlap only.
@@ -117,29 +116,29 @@ void trackOverlaps(WorldData& w) {
     }
 }
 
-bool isRecovering(const WorldData& w, uint32_t a, uint32_t b) {
+bool isRecovering(const CollisionWorld& w, uint32_t a, uint32_t b) {
     return !w.collision.overlaps.empty() && findPair(w.collision.overlaps, a, b) != nullptr;
 }
 
-bool isWhole(const WorldData& w, uint32_t a, uint32_t b) {
+bool isWhole(const CollisionWorld& w, uint32_t a, uint32_t b) {
     const std::vector<uint64_t>& e = w.collision.wholePairs;
     return !e.empty() && std::binary_search(e.begin(), e.end(), pairKey(a, b));
 }
 
-void settleOverlaps(WorldData& w) {
+void settleOverlaps(CollisionWorld& w) {
     CollisionState& s = w.collision;
     if (s.overlaps.empty()) return;
     for (OverlapPair& p : s.overlaps) p.deep = 0;
     for (const Contact& c : s.all) {
         const uint32_t other = c.hasB ? c.bodyB : kFloorBody;
-        const BodyRecord& owner = w.bodies[c.hasB ? c.bodyB : c.bodyA];
+        const CollisionBody& owner = w.bodies[c.hasB ? c.bodyB : c.bodyA];
         if (c.distance >= -skinOf(w, owner)) continue;
         if (OverlapPair* p = findPair(s.overlaps, c.bodyA, other)) p->deep = p->confirmed = 1;
     }
     std::erase_if(s.overlaps, [](const OverlapPair& p) { return !p.deep && !p.whole; });
 }
 
-void pushWholePairsApart(WorldData& w, float dt) {
+void pushWholePairsApart(CollisionWorld& w, float dt) {
     CollisionState& s = w.collision;
     if (s.wholePairs.empty()) return;
     const size_t n = w.bodies.size();
@@ -153,8 +152,8 @@ void pushWholePairsApart(WorldData& w, float dt) {
     heaviest.assign(n, 0.0f);
     for (const uint64_t key : s.wholePairs) {
         const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
-        const BodyRecord& A = w.bodies[a];
-        const BodyRecord& B = w.bodies[b];
+        const CollisionBody& A = w.bodies[a];
+        const CollisionBody& B = w.bodies[b];
         Vec3 d = s.overlapCentre[a] - s.overlapCentre[b];
         const float len = length(d);
         const float scale = minNum(A.sphereRadius, B.sphereRadius);
@@ -184,7 +183,7 @@ void pushWholePairsApart(WorldData& w, float dt) {
     const float step = w.settings.overlapRecoverySpeed * dt;
     for (uint32_t b = 0; b < n; ++b) {
         if (std::isnan(velocity[b].x)) continue; // in no whole pair
-        BodyRecord& r = w.bodies[b];
+        CollisionBody& r = w.bodies[b];
         const Vec3 dv = velocity[b] - before[b];
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) w.v[i] += dv;
         const float len = length(push[b]);
@@ -212,7 +211,7 @@ void pushWholePairsApart(WorldData& w, float dt) {
     }
 }
 
-void forgetBody(WorldData& w, uint32_t dense) {
+void forgetBody(CollisionWorld& w, uint32_t dense) {
     CollisionState& s = w.collision;
     s.wholePairs.clear();
     std::erase_if(s.overlaps, [&](const OverlapPair& p) { return p.a == dense || p.b == dense; });

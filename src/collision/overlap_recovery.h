@@ -30,7 +30,7 @@
 
 namespace ffd::detail {
 
-struct WorldData;
+struct CollisionWorld;
 
 /// Stands for the floor as the second body of a remembered pair.
 inline constexpr uint32_t kFloorBody = UINT32_MAX;
@@ -39,22 +39,22 @@ inline constexpr uint32_t kFloorBody = UINT32_MAX;
 /// placed since the last substep (bounding spheres that touch, or node bounds below the
 /// floor's skin) and marks the whole pairs. Computes every body's bounding sphere when it
 /// needs them. No-op (and no cost) when nothing is placed or remembered.
-void trackOverlaps(WorldData& world);
+void trackOverlaps(CollisionWorld& world);
 
 /// Whether the pair (dense indices, any order; kFloorBody for the floor) is remembered.
-bool isRecovering(const WorldData& world, uint32_t bodyA, uint32_t bodyB);
+bool isRecovering(const CollisionWorld& world, uint32_t bodyA, uint32_t bodyB);
 
 /// Whether the pair is whole this substep (its object contacts are left out).
-bool isWhole(const WorldData& world, uint32_t bodyA, uint32_t bodyB);
+bool isWhole(const CollisionWorld& world, uint32_t bodyA, uint32_t bodyB);
 
 /// After the contacts of a substep were found: forgets the pairs that are apart.
-void settleOverlaps(WorldData& world);
+void settleOverlaps(CollisionWorld& world);
 
 /// After trackOverlaps, before the contacts: moves the bodies of whole pairs apart
 /// (positions, nodes and bounds; velocities only lose the pairs' approach along their line).
-void pushWholePairsApart(WorldData& world, float dt);
+void pushWholePairsApart(CollisionWorld& world, float dt);
 
 /// Keeps the remembered pairs valid when body `dense` is removed (later ones shift down).
-void forgetBody(WorldData& world, uint32_t dense);
+void forgetBody(CollisionWorld& world, uint32_t dense);
 
 } // namespace ffd::detail

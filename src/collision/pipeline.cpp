@@ -5,14 +5,13 @@
 
 #include "collision/overlap_recovery.h"
 #include "util/check.h"
-#include "world/world_data.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace ffd::detail {
 
-float skinOf(const WorldData& w, const BodyRecord& b) {
+float skinOf(const CollisionWorld& w, const CollisionBody& b) {
     return w.settings.contactSkin * b.cellSize;
 }
 
@@ -32,7 +31,7 @@ constexpr float kReachAllowance = 0.25f;
 // How far any node of a body can travel in one substep, as |V| + D (mean velocity and largest
 // deviation from it; a node is a convex blend of its cell's particles, so none is faster than
 // the fastest particle, and none of those is faster than |V| + D).
-float reachOf(const WorldData& w, const BodyRecord& b) {
+float reachOf(const CollisionWorld& w, const CollisionBody& b) {
     return w.substep * (length(b.meanVelocity) + b.spread);
 }
 
@@ -41,7 +40,7 @@ float reachOf(const WorldData& w, const BodyRecord& b) {
 // stop them at the surface however fast they come). Any point of A moves relative to any point
 // of B by at most |V_A - V_B| + D_A + D_B (mean velocities and largest deviations from them):
 // bodies falling together get a thin margin.
-float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
+float marginOf(const CollisionWorld& w, const CollisionBody& a, const CollisionBody& b) {
     return skinOf(w, b) +
            w.substep * (length(a.meanVelocity - b.meanVelocity) + a.spread + b.spread);
 }
@@ -54,7 +53,7 @@ float marginOf(const WorldData& w, const BodyRecord& a, const BodyRecord& b) {
 
 // A body's share of the largest margin phase 1 may allow its pairs (twice its skin and reach:
 // 2 marginOf(A, B) <= 2 (max(skin A, skin B) + reach A + reach B)), for the sweep's window.
-float sweepMargin(const WorldData& w, const BodyRecord& b) {
+float sweepMargin(const CollisionWorld& w, const CollisionBody& b) {
     return 2.0f * (skinOf(w, b) + reachOf(w, b));
 }
 
@@ -67,8 +66,8 @@ float sweepMargin(const WorldData& w, const BodyRecord& b) {
 // (overlap_recovery.h) lose at most WorldSettings::overlapRecoverySpeed x substep per substep;
 // with WorldSettings::pushOutSpeed (0 by default: none) every contact deeper than the skin plus
 // pushOutSpeed x substep loses at most that depth.
-float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance, uint32_t bodyA,
-                       uint32_t bodyB) {
+float toleratedOverlap(const CollisionWorld& w, const CollisionBody& b, float distance,
+                       uint32_t bodyA, uint32_t bodyB) {
     // Pairs placed overlapping: at most the recovery speed x substep of overlap per substep.
     const float recovery = w.settings.overlapRecoverySpeed * w.substep;
     if (recovery > 0 && distance < -recovery && isRecovering(w, bodyA, bodyB))
@@ -79,22 +78,22 @@ float toleratedOverlap(const WorldData& w, const BodyRecord& b, float distance, 
 }
 
 // Sets the contact's push-out: the overlap it keeps for later substeps and whether it does.
-void setPushOut(const WorldData& w, const BodyRecord& b, uint32_t bodyA, uint32_t bodyB,
+void setPushOut(const CollisionWorld& w, const CollisionBody& b, uint32_t bodyA, uint32_t bodyB,
                 Contact& c) {
     c.tolerated = toleratedOverlap(w, b, c.distance, bodyA, bodyB);
     c.pushedOut = c.tolerated < 0;
 }
 
-float combineFriction(const BodyRecord& a, const BodyRecord& b) {
-    return std::sqrt(a.settings.friction * b.settings.friction);
+float combineFriction(const CollisionBody& a, const CollisionBody& b) {
+    return std::sqrt(a.friction * b.friction);
 }
 
 // Local coordinates, in the cell of box `box` of body B, of point q (on or near the box):
 // the box's trilinear map inverted by Newton, started from its linearised map (close for all
 // but thin, strongly deformed boxes), kept within the box.
-Vec3 locateInBox(const WorldData& w, const BodyRecord& B, uint32_t box, const BoxPlanes& planes,
-                 Vec3 q) {
-    const Lattice& LB = B.model->lattice;
+Vec3 locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
+                 const BoxPlanes& planes, Vec3 q) {
+    const Lattice& LB = *B.lattice;
     const CellBox& boxB = LB.boxes[box - B.firstBox];
     const auto& cornersB = LB.cellParticles[boxB.cell];
     Vec3 corners[8];
@@ -109,11 +108,11 @@ Vec3 locateInBox(const WorldData& w, const BodyRecord& B, uint32_t box, const Bo
 // A contact between body A's point at `localA` in the cell of box `boxA` and body B's box
 // `box`, pushing A along `normal`; `distance` is the signed distance to B's face plane and
 // `q` the point on it.
-Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec3 localA,
+Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA, Vec3 localA,
                           uint32_t bodyB, uint32_t box, Vec3 normal, float distance, Vec3 q,
                           const BoxPlanes& planes) {
-    const BodyRecord& A = w.bodies[bodyA];
-    const BodyRecord& B = w.bodies[bodyB];
+    const CollisionBody& A = w.bodies[bodyA];
+    const CollisionBody& B = w.bodies[bodyB];
     Contact c;
     c.bodyA = bodyA;
     c.bodyB = bodyB;
@@ -123,12 +122,12 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec
     c.distance = distance;
     setPushOut(w, B, bodyA, bodyB, c);
     c.friction = combineFriction(A, B);
-    c.restitution = maxNum(A.settings.restitution, B.settings.restitution);
-    c.rigidity = 0.5f * (A.settings.contactRigidity + B.settings.contactRigidity);
-    const Lattice& LA = A.model->lattice;
+    c.restitution = maxNum(A.restitution, B.restitution);
+    c.rigidity = 0.5f * (A.contactRigidity + B.contactRigidity);
+    const Lattice& LA = *A.lattice;
     makeContactPoint(LA.cellParticles[LA.boxes[boxA - A.firstBox].cell].data(), A.firstParticle,
                      localA, w.invMass, c.a, c.invMassA);
-    const Lattice& LB = B.model->lattice;
+    const Lattice& LB = *B.lattice;
     makeContactPoint(LB.cellParticles[LB.boxes[box - B.firstBox].cell].data(), B.firstParticle,
                      locateInBox(w, B, box, planes, q), w.invMass, c.b, c.invMassB);
     return c;
@@ -137,8 +136,8 @@ Contact makeObjectContact(const WorldData& w, uint32_t bodyA, uint32_t boxA, Vec
 // Tests the box pairs `keys` (sorted), each once: its manifold's points become contacts, and
 // what the pair may claim (from the last substep's claims) a claim, appended to `contacts` and
 // `claims`.
-void emitPairs(const WorldData& w, std::span<const uint64_t> keys, std::vector<Contact>& contacts,
-               std::vector<BoxPairClaim>& claims) {
+void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys,
+               std::vector<Contact>& contacts, std::vector<BoxPairClaim>& claims) {
     const CollisionState& s = w.collision;
     if (keys.empty()) return;
     // Into the last substep's claims, sorted like keys.
@@ -152,15 +151,15 @@ void emitPairs(const WorldData& w, std::span<const uint64_t> keys, std::vector<C
         BoxView view[2];
         for (int k = 0; k < 2; ++k) {
             body[k] = s.boxBody[box[k]];
-            const BodyRecord& r = w.bodies[body[k]];
-            const CellBox& cb = r.model->lattice.boxes[box[k] - r.firstBox];
+            const CollisionBody& r = w.bodies[body[k]];
+            const CellBox& cb = r.lattice->boxes[box[k] - r.firstBox];
             view[k].nodes = &w.nodes[size_t(box[k]) * 8];
             for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
             view[k].planes = &s.planes[box[k]];
             view[k].outsideFaces = cb.outsideFaces;
         }
-        const BodyRecord& P = w.bodies[body[0]];
-        const BodyRecord& Q = w.bodies[body[1]];
+        const CollisionBody& P = w.bodies[body[0]];
+        const CollisionBody& Q = w.bodies[body[1]];
         const float margin = maxNum(marginOf(w, P, Q), marginOf(w, Q, P));
         const float tolerance = kReferenceTolerance * minNum(s.skin[body[0]], s.skin[body[1]]);
         const BoxPairManifold m = boxPairManifold(view[0], view[1], margin, tolerance);
@@ -240,9 +239,9 @@ void sortContacts(std::span<const std::span<const Contact>> sources, std::vector
     out.swap(sorted);
 }
 
-bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
-    const BodyRecord& a = w.bodies[i];
-    const BodyRecord& b = w.bodies[j];
+bool spheresOverlap(const CollisionWorld& w, uint32_t i, uint32_t j) {
+    const CollisionBody& a = w.bodies[i];
+    const CollisionBody& b = w.bodies[j];
     // The narrow phase accepts nodes up to one margin outside a box's node bounds, which is
     // within sqrt(3) margins of the sphere: allow twice the larger margin so the test stays
     // conservative and the modes find identical contacts.
@@ -253,14 +252,14 @@ bool spheresOverlap(const WorldData& w, uint32_t i, uint32_t j) {
 
 } // namespace
 
-void rebuildCollisionTopology(WorldData& w) {
+void rebuildCollisionTopology(CollisionWorld& w) {
     CollisionState& s = w.collision;
     const size_t boxes = w.boxBounds.size();
     s.boxBody.resize(boxes);
     s.nodeBody.resize(boxes * 8);
     s.planes.resize(boxes);
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const BodyRecord& r = w.bodies[b];
+        const CollisionBody& r = w.bodies[b];
         for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
             s.boxBody[k] = b;
             for (int n = 0; n < 8; ++n) s.nodeBody[size_t(k) * 8 + n] = b;
@@ -275,7 +274,7 @@ void rebuildCollisionTopology(WorldData& w) {
     }
 }
 
-void forgetBoxes(WorldData& w, uint32_t first, uint32_t count) {
+void forgetBoxes(CollisionWorld& w, uint32_t first, uint32_t count) {
     // Renumbering both boxes down by the same count (or only the higher one) keeps the order
     // of the keys, so they stay sorted.
     std::erase_if(w.collision.claims, [&](BoxPairClaim& c) {
@@ -290,10 +289,10 @@ void forgetBoxes(WorldData& w, uint32_t first, uint32_t count) {
     });
 }
 
-void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
+void updateNodes(CollisionWorld& w, size_t firstBody, size_t lastBody) {
     for (size_t b = firstBody; b < lastBody; ++b) {
-        BodyRecord& r = w.bodies[b];
-        const Lattice& L = r.model->lattice;
+        CollisionBody& r = w.bodies[b];
+        const Lattice& L = *r.lattice;
         std::span<const Vec3> x(w.x.data() + r.firstParticle, r.particleCount);
         std::span<Vec3> nodes(w.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
         updateBoxNodes(L, x, nodes);
@@ -323,7 +322,7 @@ void updateNodes(WorldData& w, size_t firstBody, size_t lastBody) {
     }
 }
 
-void sphereTestAllPairs(WorldData& w, std::vector<CandidatePair>& out) {
+void sphereTestAllPairs(CollisionWorld& w, std::vector<CandidatePair>& out) {
     out.clear();
     const uint32_t n = uint32_t(w.bodies.size());
     for (uint32_t i = 0; i < n; ++i)
@@ -331,7 +330,7 @@ void sphereTestAllPairs(WorldData& w, std::vector<CandidatePair>& out) {
             if (spheresOverlap(w, i, j)) out.push_back({i, j});
 }
 
-void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
+void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
     out.clear();
     const uint32_t n = uint32_t(w.bodies.size());
     std::vector<uint32_t>& order = w.collision.sweepOrder;
@@ -345,7 +344,7 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     // however uneven their particles' velocities. The extents are padded by a little more than
     // the rounding of either computation can shift them.
     for (uint32_t i = 0; i < n; ++i) {
-        const BodyRecord& r = w.bodies[i];
+        const CollisionBody& r = w.bodies[i];
         const float half = r.sphereRadius + sweepMargin(w, r);
         const float pad = 1e-5f * (half + std::abs(r.sphereCentre.x));
         order[i] = i;
@@ -376,11 +375,11 @@ void sphereTestSweep(WorldData& w, std::vector<CandidatePair>& out) {
     });
 }
 
-void computeSpheres(WorldData& w) {
+void computeSpheres(CollisionWorld& w) {
     // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
     w.workers.forRange(w.bodies.size(), [&](size_t first, size_t last, int) {
         for (size_t i = first; i < last; ++i) {
-            BodyRecord& r = w.bodies[i];
+            CollisionBody& r = w.bodies[i];
             const Vec3 c = r.bounds.centre();
             float r2 = 0;
             for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
@@ -394,7 +393,7 @@ void computeSpheres(WorldData& w) {
     });
 }
 
-void sphereTest(WorldData& w) {
+void sphereTest(CollisionWorld& w) {
     computeSpheres(w);
     CollisionState& s = w.collision;
     if (int(w.bodies.size()) > w.settings.sweepThreshold)
@@ -421,7 +420,7 @@ void sphereTest(WorldData& w) {
     }
 }
 
-void findFloorContacts(WorldData& w) {
+void findFloorContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     s.all.resize(s.objectCount);
     w.profile.floorContacts = 0;
@@ -430,10 +429,10 @@ void findFloorContacts(WorldData& w) {
     // their copies into place cost more than making them (measured on alphabets).
     const float floorY = w.settings.floorHeight;
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const BodyRecord& r = w.bodies[b];
+        const CollisionBody& r = w.bodies[b];
         const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
         if (r.bounds.lo.y >= floorY + skin) continue;
-        const Lattice& L = r.model->lattice;
+        const Lattice& L = *r.lattice;
         for (uint32_t k = 0; k < r.boxCount; ++k) {
             if (w.boxBounds[r.firstBox + k].lo.y >= floorY + skin) continue;
             const CellBox& box = L.boxes[k];
@@ -448,9 +447,9 @@ void findFloorContacts(WorldData& w) {
                 c.offset = floorY;
                 c.distance = y - floorY;
                 setPushOut(w, r, b, kFloorBody, c);
-                c.friction = r.settings.friction;
-                c.restitution = r.settings.restitution;
-                c.rigidity = r.settings.contactRigidity;
+                c.friction = r.friction;
+                c.restitution = r.restitution;
+                c.rigidity = r.contactRigidity;
                 makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
                                  box.nodeLocal(n), w.invMass, c.a, c.invMassA);
                 s.all.push_back(c);
@@ -460,7 +459,7 @@ void findFloorContacts(WorldData& w) {
     w.profile.floorContacts = int(s.all.size() - s.objectCount);
 }
 
-void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& out,
+void findObjectContacts(CollisionWorld& w, CollisionMode mode, std::vector<Contact>& out,
                         int& outPotential) {
     out.clear();
     outPotential = 0;
@@ -568,12 +567,12 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
 
     if (mode == CollisionMode::Brute) {
         for (uint32_t b = 0; b < n; ++b) {
-            const BodyRecord& B = w.bodies[b];
+            const CollisionBody& B = w.bodies[b];
             for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
                 const Aabb grown = grow(w.boxBounds[box], s.skin[b] + s.reach[b]);
                 for (uint32_t a = 0; a < n; ++a) {
                     if (a == b) continue;
-                    const BodyRecord& A = w.bodies[a];
+                    const CollisionBody& A = w.bodies[a];
                     const float margin = marginOf(w, A, B);
                     for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
                          ++node)
@@ -665,7 +664,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
         for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
             if (!isCandidate(b)) continue;
-            const BodyRecord& B = w.bodies[b];
+            const CollisionBody& B = w.bodies[b];
             gatherPartners(b, q);
             for (uint32_t box = B.firstBox; box < B.firstBox + B.boxCount; ++box) {
                 const Aabb& bb = w.boxBounds[box];
@@ -696,7 +695,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         batch.wide.clear();
         for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
             if (!isCandidate(b)) continue;
-            const BodyRecord& r = w.bodies[b];
+            const CollisionBody& r = w.bodies[b];
             for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
                 if (s.boxFlags[box] & kHash)
                     for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
@@ -712,7 +711,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
         CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
         for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
             if (!isCandidate(b)) continue;
-            const BodyRecord& B = w.bodies[b];
+            const CollisionBody& B = w.bodies[b];
             // Each partner's margin against b's boxes (every other object's for `previous`).
             if (enhanced) {
                 for (uint32_t k = s.partnerStart[b]; k < s.partnerStart[b + 1]; ++k) {
@@ -741,7 +740,7 @@ void findObjectContacts(WorldData& w, CollisionMode mode, std::vector<Contact>& 
     sortContacts(s.sortSpans, out, s, w.workers);
 }
 
-void findAllObjectContacts(WorldData& w) {
+void findAllObjectContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     findObjectContacts(w, w.settings.mode, s.all, w.profile.potentialPairs);
     std::swap(s.claims, s.nextClaims);
@@ -754,10 +753,10 @@ namespace {
 // The solver's zones (contact.h, buildSolverSchedule): each body's cell on a grid over x and
 // z as wide as the widest body, so that bodies in contact lie in the same or neighbouring
 // cells. It depends on the positions alone, never on the thread count.
-void scheduleContacts(WorldData& w) {
+void scheduleContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     float width = 0;
-    for (const BodyRecord& r : w.bodies) {
+    for (const CollisionBody& r : w.bodies) {
         const Vec3 e = r.bounds.extent();
         width = maxNum(width, maxNum(e.x, e.z));
     }
@@ -778,7 +777,7 @@ void scheduleContacts(WorldData& w) {
 
 } // namespace
 
-void respondBeforeMove(WorldData& w, float dt) {
+void respondBeforeMove(CollisionWorld& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return;
     scheduleContacts(w);
@@ -798,7 +797,7 @@ void respondBeforeMove(WorldData& w, float dt) {
                     s.solver, w.workers);
 }
 
-float respondAfterMove(WorldData& w, float dt) {
+float respondAfterMove(CollisionWorld& w, float dt) {
     CollisionState& s = w.collision;
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;

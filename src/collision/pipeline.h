@@ -1,9 +1,12 @@
-// The collision stages of World::step, each one function over the world's data:
-//   node_update       FFD-AABB nodes from particles, per-box and per-object min/max
-//   sphere_test       phase 1: bounding spheres and candidate object pairs (enhanced only)
-//   floor             node-vs-floor contacts
-//   object_collision  phase 2 (spatial hash) + phase 3 (box pairs) + the response of all
-//                     contacts
+// The collision stages of World::step (ffdaabb/profile.h names them), each one function over
+// the view of the world it is handed (collision/body.h: CollisionWorld):
+//   node_update           FFD-AABB nodes from particles, per-box and per-object min/max
+//   sphere_test           phase 1: bounding spheres and candidate object pairs (enhanced only)
+//   object_contacts       phase 2 (spatial hash) + phase 3 (box pairs)
+//   floor_contacts        node-vs-floor contacts
+//   response_before_move  the solver schedule, pre-stabilisation, rigid impact phase
+//   response_after_move   projection, velocity pass
+// (the overlap recovery's stages are in collision/overlap_recovery.h)
 // Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
 // 2012 (Fig. 2: the three phases); Jung, Hong, Choi, IET Image Processing 5(4), 2011.
 #pragma once
@@ -15,57 +18,54 @@
 
 namespace ffd::detail {
 
-struct WorldData;
-struct BodyRecord;
-
 /// A body's contact skin, metres (WorldSettings::contactSkin of its cell size).
-float skinOf(const WorldData& world, const BodyRecord& body);
+float skinOf(const CollisionWorld& world, const CollisionBody& body);
 
 /// Rebuilds the node/box -> body lookups after bodies were added or removed.
-void rebuildCollisionTopology(WorldData& world);
+void rebuildCollisionTopology(CollisionWorld& world);
 
 /// After the boxes [first, first + count) were removed (and the later ones renumbered down by
 /// count): drops the box pairs' claims that involve them and renumbers the others.
-void forgetBoxes(WorldData& world, uint32_t first, uint32_t count);
+void forgetBoxes(CollisionWorld& world, uint32_t first, uint32_t count);
 
 /// node_update for bodies [first, last): nodes, box bounds, body bounds.
-void updateNodes(WorldData& world, size_t firstBody, size_t lastBody);
+void updateNodes(CollisionWorld& world, size_t firstBody, size_t lastBody);
 
 /// Each body's bounding sphere (as sphereTest computes them), without the pairs.
-void computeSpheres(WorldData& world);
+void computeSpheres(CollisionWorld& world);
 
 /// sphere_test: each body's bounding sphere (centre of its node bounds; radius reaching the
 /// farthest corner of any of its box bounds, so that the test is conservative for the narrow
 /// phase's inflated box bounds) and the candidate pairs (all pairs below
 /// settings.sweepThreshold bodies, sort-and-sweep on x above), less the whole pairs of the
 /// overlap recovery. Fills world.collision.pairs.
-void sphereTest(WorldData& world);
+void sphereTest(CollisionWorld& world);
 
 /// Candidate pairs by brute force over all pairs (for tests of the sweep).
-void sphereTestAllPairs(WorldData& world, std::vector<CandidatePair>& out);
-void sphereTestSweep(WorldData& world, std::vector<CandidatePair>& out);
+void sphereTestAllPairs(CollisionWorld& world, std::vector<CandidatePair>& out);
+void sphereTestSweep(CollisionWorld& world, std::vector<CandidatePair>& out);
 
 /// floor: contacts of box nodes with the floor, found on the current positions (speculative:
 /// within the skin plus the distance the node can travel this substep), appended to
 /// world.collision.all after the object contacts (findAllObjectContacts runs first).
-void findFloorContacts(WorldData& world);
+void findFloorContacts(CollisionWorld& world);
 
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
 /// with the contacts in canonical order; counts node/box pairs tested.
-void findObjectContacts(WorldData& world, CollisionMode mode, std::vector<Contact>& out,
+void findObjectContacts(CollisionWorld& world, CollisionMode mode, std::vector<Contact>& out,
                         int& outPotentialPairs);
 
 /// object_collision: findObjectContacts into world.collision.all, which findFloorContacts then
 /// completes with the floor's: both are solved together so that piles and the floor push each
 /// other consistently.
-void findAllObjectContacts(WorldData& world);
+void findAllObjectContacts(CollisionWorld& world);
 
 /// The response before the position update: pre-stabilisation and the rigid phase (see
 /// collision/contact.h).
-void respondBeforeMove(WorldData& world, float dt);
+void respondBeforeMove(CollisionWorld& world, float dt);
 
 /// The response after the position update: projection with velocities following, then the
 /// velocity pass. Returns the deepest remaining violation (metres).
-float respondAfterMove(WorldData& world, float dt);
+float respondAfterMove(CollisionWorld& world, float dt);
 
 } // namespace ffd::detail

@@ -191,6 +191,34 @@ void validate(const BodySettings& s) {
                          "rotation is not a valid quaternion (zero or non-finite)");
 }
 
+namespace detail {
+
+CollisionWorld collisionView(WorldData& w) {
+    return CollisionWorld{w.settings,  w.substep, w.x,         w.v,
+                          w.invMass,   w.nodes,   w.boxBounds, w.collision.bodies,
+                          w.collision, w.workers, w.profile};
+}
+
+void syncCollisionBodies(WorldData& w) {
+    for (size_t b = 0; b < w.bodies.size(); ++b) {
+        const BodyRecord& r = w.bodies[b];
+        CollisionBody& c = w.collision.bodies[b];
+        c.lattice = &r.model->lattice;
+        c.massFraction = r.model->massFraction;
+        c.firstParticle = r.firstParticle, c.particleCount = r.particleCount;
+        c.firstBox = r.firstBox, c.boxCount = r.boxCount;
+        c.cellSize = r.cellSize;
+        c.mass = r.mass;
+        c.friction = r.settings.friction;
+        c.restitution = r.settings.restitution;
+        c.contactRigidity = r.settings.contactRigidity;
+    }
+    CollisionWorld view = collisionView(w);
+    rebuildCollisionTopology(view);
+}
+
+} // namespace detail
+
 World::World(const WorldSettings& settings) : state_(std::make_unique<State>()) {
     validate(settings);
     state_->settings = settings;
@@ -252,7 +280,8 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     r.slot = slot;
     w.slots[slot].dense = uint32_t(w.bodies.size());
     w.bodies.push_back(std::move(r));
-    detail::rebuildCollisionTopology(w);
+    w.collision.bodies.emplace_back(); // placed: its overlaps will be remembered
+    detail::syncCollisionBodies(w);
     rebuildDynamicsBatches(w);
     const BodyId id{slot, w.slots[slot].generation};
     updateMesh(id);
@@ -291,9 +320,11 @@ bool World::removeBody(BodyId id) {
     w.collision.pairs.clear();
     w.collision.all.clear(); // its contacts name the bodies' old ranges
     w.collision.objectCount = 0;
-    detail::forgetBody(w, dense);
-    detail::forgetBoxes(w, r.firstBox, r.boxCount);
-    detail::rebuildCollisionTopology(w);
+    detail::CollisionWorld view = detail::collisionView(w);
+    detail::forgetBody(view, dense);
+    detail::forgetBoxes(view, r.firstBox, r.boxCount);
+    w.collision.bodies.erase(w.collision.bodies.begin() + dense);
+    detail::syncCollisionBodies(w);
     rebuildDynamicsBatches(w);
     return true;
 }
@@ -320,6 +351,16 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
         throw InputError("body", "stale or invalid body handle (index " + std::to_string(id.index) +
                                      ", generation " + std::to_string(id.generation) + ")");
     return *r;
+}
+
+// What the collision stages know of the body (valid handle checked).
+detail::CollisionBody& collisionBody(WorldData& w, BodyId id) {
+    get(w, id);
+    return w.collision.bodies[w.slots[id.index].dense];
+}
+const detail::CollisionBody& collisionBody(const WorldData& w, BodyId id) {
+    get(w, id);
+    return w.collision.bodies[w.slots[id.index].dense];
 }
 
 void requireParticle(const BodyRecord& r, uint32_t particle) {
@@ -428,16 +469,16 @@ void timed(Profile& profile, Stage stage, F&& run) {
     profile.stageMs[size_t(stage)] += msSince(start);
 }
 
-void updateNodesStage(WorldData& w) {
+void updateNodesStage(WorldData& w, detail::CollisionWorld& view) {
     forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-        detail::updateNodes(w, first, last);
+        detail::updateNodes(view, first, last);
     });
 }
 
 // Phase 1 in enhanced mode; the other modes pass every pair on (and spend nothing here).
-void sphereTestStage(WorldData& w) {
+void sphereTestStage(WorldData& w, detail::CollisionWorld& view) {
     if (w.settings.mode == CollisionMode::Enhanced) {
-        timed(w.profile, Stage::SphereTest, [&] { detail::sphereTest(w); });
+        timed(w.profile, Stage::SphereTest, [&] { detail::sphereTest(view); });
         w.profile.candidatePairs = int(w.collision.pairs.size());
     } else if (w.settings.mode != CollisionMode::None) {
         const size_t n = w.bodies.size();
@@ -479,27 +520,28 @@ void World::step() {
     const auto frameStart = Clock::now();
     const float dt = w.settings.frameStep / float(w.settings.substeps);
     w.substep = dt;
+    detail::CollisionWorld view = detail::collisionView(w);
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
         timed(prof, Stage::Dynamics, [&] { dynamicsStage(w, dt); });
-        timed(prof, Stage::NodeUpdate, [&] { updateNodesStage(w); });
+        timed(prof, Stage::NodeUpdate, [&] { updateNodesStage(w, view); });
         timed(prof, Stage::OverlapRecovery, [&] {
             w.collision.pairs.clear();
-            detail::trackOverlaps(w);
-            detail::pushWholePairsApart(w, dt);
+            detail::trackOverlaps(view);
+            detail::pushWholePairsApart(view, dt);
         });
-        sphereTestStage(w);
-        timed(prof, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(w); });
-        timed(prof, Stage::FloorContacts, [&] { detail::findFloorContacts(w); });
+        sphereTestStage(w, view);
+        timed(prof, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(view); });
+        timed(prof, Stage::FloorContacts, [&] { detail::findFloorContacts(view); });
         timed(prof, Stage::OverlapSettling, [&] {
-            detail::settleOverlaps(w);
+            detail::settleOverlaps(view);
             prof.overlapPairs = int(w.collision.overlaps.size());
             prof.wholePairs = int(w.collision.wholePairs.size());
         });
-        timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(w, dt); });
+        timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(view, dt); });
         timed(prof, Stage::PositionUpdate, [&] { positionStage(w, dt); });
         timed(prof, Stage::ResponseAfterMove,
-              [&] { deepest = maxNum(deepest, detail::respondAfterMove(w, dt)); });
+              [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
     }
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
@@ -537,11 +579,11 @@ const Lattice& World::lattice(BodyId id) const {
     return get(*state_, id).model->lattice;
 }
 Aabb World::bounds(BodyId id) const {
-    return get(*state_, id).bounds;
+    return collisionBody(*state_, id).bounds;
 }
 
 void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
-    const BodyRecord& r = get(*state_, id);
+    const detail::CollisionBody& r = collisionBody(*state_, id);
     centre = r.sphereCentre;
     radius = r.sphereRadius;
 }
@@ -622,7 +664,7 @@ void World::translate(BodyId id, Vec3 offset) {
     requireFinite("offset", offset);
     const BodyRecord& r = get(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->x[r.firstParticle + i] += offset;
-    state_->find(id)->placed = true;
+    collisionBody(*state_, id).placed = true;
     updateMesh(id);
 }
 
@@ -649,7 +691,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
         state_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
     }
     if (resetVelocity) state_->find(id)->halfKick = true;
-    state_->find(id)->placed = true;
+    collisionBody(*state_, id).placed = true;
     updateMesh(id);
 }
 
@@ -657,7 +699,8 @@ void World::updateMesh(BodyId id) {
     WorldData& w = *state_;
     const BodyRecord& r = get(w, id);
     const uint32_t dense = w.slots[id.index].dense;
-    detail::updateNodes(w, dense, dense + 1);
+    detail::CollisionWorld view = detail::collisionView(w);
+    detail::updateNodes(view, dense, dense + 1);
     deformVertices(r.model->lattice,
                    std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
                    std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));

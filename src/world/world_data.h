@@ -41,15 +41,8 @@ struct BodyRecord {
     /// Velocities are stored at half steps (leapfrog): a body whose velocity was just set gets
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
-    Aabb bounds;        ///< of the box nodes, from the last node update
-    float maxSpeed = 0; ///< fastest particle at the last node update, m/s
-    Vec3 meanVelocity;  ///< mass-weighted mean particle velocity at the last node update
-    float spread = 0;   ///< largest |v_i - meanVelocity| over the particles, m/s
-    Vec3 sphereCentre;  ///< bounding sphere (enhanced mode)
-    float sphereRadius = 0;
-    /// Added, translated or set since the last substep: its overlaps are remembered
-    /// (collision/overlap_recovery.h).
-    bool placed = true;
+    // What the collision stages find of the body (bounds, bounding sphere, motion) is theirs:
+    // WorldData::collision.bodies, same index.
 };
 
 struct Slot {
@@ -109,6 +102,14 @@ struct WorldData {
         return const_cast<BodyRecord*>(static_cast<const WorldData*>(this)->find(id));
     }
 };
+
+/// The collision stages' view of the world for a step (collision/body.h): valid until bodies
+/// come or go.
+CollisionWorld collisionView(WorldData& world);
+
+/// After bodies came or went: each body's layout and material in the collision state, and the
+/// collision's lookups from nodes and boxes to bodies (collision/pipeline.h).
+void syncCollisionBodies(WorldData& world);
 
 /// Mass-weighted mean over a body's particles of a per-particle quantity (`x`: the centre of
 /// mass; `v`: the linear velocity), by the model's mass fractions.

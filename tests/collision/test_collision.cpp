@@ -434,12 +434,13 @@ public:
 // pairs it tested.
 std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, CollisionMode mode,
                                                           int* testedPairs = nullptr) {
-    detail::updateNodes(w, 0, w.bodies.size());
+    detail::CollisionWorld view = detail::collisionView(w);
+    detail::updateNodes(view, 0, w.bodies.size());
     w.collision.pairs.clear();
-    if (mode == CollisionMode::Enhanced) detail::sphereTest(w);
+    if (mode == CollisionMode::Enhanced) detail::sphereTest(view);
     std::vector<detail::Contact> contacts;
     int potential = 0;
-    detail::findObjectContacts(w, mode, contacts, potential);
+    detail::findObjectContacts(view, mode, contacts, potential);
     if (testedPairs) *testedPairs = potential;
     std::vector<std::tuple<uint64_t, Vec3, float>> out;
     for (const detail::Contact& c : contacts)
@@ -545,12 +546,13 @@ TEST(CollisionModes, SweepAndAllPairsAgree) {
     for (int config = 0; config < 100; ++config) {
         pool.configure(rng, 20, config % 2 ? 1.6f : 0.7f);
         if (config % 4 >= 2) pool.unevenVelocities(rng);
-        detail::updateNodes(w, 0, w.bodies.size());
         w.settings.sweepThreshold = 1000;
-        detail::sphereTest(w);
+        detail::CollisionWorld view = detail::collisionView(w);
+        detail::updateNodes(view, 0, w.bodies.size());
+        detail::sphereTest(view);
         std::vector<detail::CandidatePair> all, sweep;
-        detail::sphereTestAllPairs(w, all);
-        detail::sphereTestSweep(w, sweep);
+        detail::sphereTestAllPairs(view, all);
+        detail::sphereTestSweep(view, sweep);
         ASSERT_EQ(all, sweep) << config;
     }
 }
