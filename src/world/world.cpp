@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 namespace ffd {
 
@@ -354,13 +355,16 @@ const BodyRecord& get(const WorldData& w, BodyId id) {
 }
 
 // What the collision stages know of the body (valid handle checked).
-detail::CollisionBody& collisionBody(WorldData& w, BodyId id) {
-    get(w, id);
-    return w.collision.bodies[w.slots[id.index].dense];
-}
 const detail::CollisionBody& collisionBody(const WorldData& w, BodyId id) {
     get(w, id);
     return w.collision.bodies[w.slots[id.index].dense];
+}
+
+// The body was added, moved or set: its overlaps are remembered at the next substep
+// (collision/overlap_recovery.h).
+void markPlaced(WorldData& w, BodyId id) {
+    get(w, id);
+    w.collision.bodies[w.slots[id.index].dense].placed = true;
 }
 
 void requireParticle(const BodyRecord& r, uint32_t particle) {
@@ -579,11 +583,11 @@ const Lattice& World::lattice(BodyId id) const {
     return get(*state_, id).model->lattice;
 }
 Aabb World::bounds(BodyId id) const {
-    return collisionBody(*state_, id).bounds;
+    return collisionBody(std::as_const(*state_), id).bounds;
 }
 
 void World::boundingSphere(BodyId id, Vec3& centre, float& radius) const {
-    const detail::CollisionBody& r = collisionBody(*state_, id);
+    const detail::CollisionBody& r = collisionBody(std::as_const(*state_), id);
     centre = r.sphereCentre;
     radius = r.sphereRadius;
 }
@@ -664,7 +668,7 @@ void World::translate(BodyId id, Vec3 offset) {
     requireFinite("offset", offset);
     const BodyRecord& r = get(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->x[r.firstParticle + i] += offset;
-    collisionBody(*state_, id).placed = true;
+    markPlaced(*state_, id);
     updateMesh(id);
 }
 
@@ -691,7 +695,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
         state_->rotationSteps[r.firstParticle + i] = Quat{}; // a jump is not a steady turn
     }
     if (resetVelocity) state_->find(id)->halfKick = true;
-    collisionBody(*state_, id).placed = true;
+    markPlaced(*state_, id);
     updateMesh(id);
 }
 
