@@ -4,6 +4,8 @@
 #include "collision/overlap_recovery.h"
 #include "collision/pipeline.h"
 #include "ffdaabb/error.h"
+#include "util/check.h"
+#include "world/stage_checks.h"
 #include "world/world_data.h"
 
 #include <chrono>
@@ -528,13 +530,18 @@ void World::step() {
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
         timed(prof, Stage::Dynamics, [&] { dynamicsStage(w, dt); });
+        FFD_CHECK(detail::particleProblem(w).empty(),
+                  "after lattice_dynamics: " + detail::particleProblem(w));
         timed(prof, Stage::NodeUpdate, [&] { updateNodesStage(w, view); });
+        FFD_CHECK(detail::nodeProblem(w).empty(), "after node_update: " + detail::nodeProblem(w));
         timed(prof, Stage::OverlapRecovery, [&] {
             w.collision.pairs.clear();
             detail::trackOverlaps(view);
             detail::pushWholePairsApart(view, dt);
         });
         sphereTestStage(w, view);
+        FFD_CHECK(w.settings.mode != CollisionMode::Enhanced || detail::sphereProblem(w).empty(),
+                  "after sphere_test: " + detail::sphereProblem(w));
         timed(prof, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(view); });
         timed(prof, Stage::FloorContacts, [&] { detail::findFloorContacts(view); });
         timed(prof, Stage::OverlapSettling, [&] {
@@ -550,6 +557,7 @@ void World::step() {
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
     if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { meshStage(w); });
+    FFD_CHECK(detail::meshProblem(w).empty(), "after mesh_update: " + detail::meshProblem(w));
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
