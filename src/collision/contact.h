@@ -64,7 +64,7 @@ struct Contact {
     float distance = 0; ///< signed distance to B's exit face (the floor) when detected
     /// Overlap (<= 0) the projections leave in this substep: what lies beyond the push-out depth
     /// of a deep contact (pushedOut), or beyond the depth its box pair can show
-    /// (BoxPairManifold::depthBound); 0 otherwise (pipeline.cpp).
+    /// (BoxPairManifold::depthBound); 0 otherwise (margins.h, object_contacts.cpp).
     float tolerated = 0;
     /// Its overlap goes over several substeps (push-out, overlap recovery): the rigid phase
     /// leaves it out, since its approach is its bodies restoring the dent the last push-out left.
@@ -242,7 +242,7 @@ struct OverlapPair {
     uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
 };
 
-/// The depth a box pair claimed in a substep (pipeline.cpp, emitBoxPairs).
+/// The depth a box pair claimed in a substep (object_contacts.cpp, emitPairs).
 struct BoxPairClaim {
     uint64_t key = 0;  ///< low box << 32 | high box
     float claimed = 0; ///< the overlap its contacts were allowed to remove
@@ -258,14 +258,14 @@ struct CollisionState {
     std::vector<uint32_t> sweepOrder;
     std::vector<float> sweepLo, sweepHi; ///< per body, its extent along x in the sweep
     std::vector<std::vector<CandidatePair>> sweepChunks; ///< the sweep's pairs, per chunk
-    std::vector<float> reach, skin; ///< per body, its terms of the margin (pipeline.cpp)
+    std::vector<float> reach, skin; ///< per body, its terms of the margin (margins.h)
     SpatialHash hash;
     std::vector<BoxPlanes> planes;    ///< per box, for the narrow phase
     std::vector<uint32_t> planeStamp; ///< planes[b] is current when planeStamp[b] == stamp
     uint32_t stamp = 0;
     std::vector<uint64_t> boxPairKeys; ///< this substep's box pairs, (low box << 32 | high box)
     /// What each box pair with contacts claimed in the last substep (sorted by key), which
-    /// bounds what it may claim in this one (pipeline.cpp, emitBoxPairs); this substep's, made
+    /// bounds what it may claim in this one (object_contacts.cpp, emitPairs); this substep's, made
     /// by findObjectContacts and kept by findAllObjectContacts.
     std::vector<BoxPairClaim> claims, nextClaims;
     /// Per worker thread, what its box queries use and find (findObjectContacts).

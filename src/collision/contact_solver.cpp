@@ -344,7 +344,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
-        // read as an impact, it would be turned into rigid motion (pipeline.cpp, push-out).
+        // read as an impact, it would be turned into rigid motion (margins.h, push-out).
         return !c.pushedOut && rigidityOf(c) > 0;
     });
     bool any = false;

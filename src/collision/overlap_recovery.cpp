@@ -1,5 +1,6 @@
 #include "collision/overlap_recovery.h"
 
+#include "collision/margins.h"
 #include "collision/pipeline.h"
 
 #include <algorithm>

@@ -18,9 +18,6 @@
 
 namespace ffd::detail {
 
-/// A body's contact skin, metres (WorldSettings::contactSkin of its cell size).
-float skinOf(const CollisionWorld& world, const CollisionBody& body);
-
 /// Rebuilds the node/box -> body lookups after bodies were added or removed.
 void rebuildCollisionTopology(CollisionWorld& world);
 

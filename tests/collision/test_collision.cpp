@@ -687,7 +687,7 @@ TEST(CollisionModes, PaperScenesAtFullSizeAgree) {
     }
 }
 
-// What each box pair claimed in the last substep is kept by box-pair key (pipeline.cpp,
+// What each box pair claimed in the last substep is kept by box-pair key (object_contacts.cpp,
 // emitBoxPairs). Removing a body renumbers the boxes after its own: the claims of the other
 // pairs follow their boxes, with the same depths, and none is left naming a removed box.
 TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {

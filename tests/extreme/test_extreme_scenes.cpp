@@ -258,7 +258,7 @@ TEST(ExtremeScenes, LatticeOfASingleCell) {
 // from 0.2 m above the lower one: the upper box's corners lie on the lower box's side planes
 // (and the other way round), so the nearest way out of the box for a corner that sinks in is a
 // side face. The node-vs-box test settles such near ties by the side the node's own box lies
-// on (pipeline.cpp); before that the upper sphere sank straight through the lower one.
+// on (object_contacts.cpp); before that the upper sphere sank straight through the lower one.
 // Criteria: every frame finite; the centres never closer than 0.9 m; after 4 s no vertex
 // inside the other body deeper than 1 cm and at rest (below 1e-6 J/kg).
 TEST(ExtremeScenes, AlignedSingleCellBoxesStack) {

@@ -1,19 +1,17 @@
+// object_contacts, phases 2-3: the candidate bodies' boxes culled, their nodes hashed, the box
+// pairs a node names tested once each (separating axes, one normal, at most four points), the
+// contacts in canonical order (collision/pipeline.h).
 // Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
 // 2012; Jung, Hong, Choi, "Collision Handling for Free-Form Deformation Embedded Surface", IET
 // Image Processing 5(4), 2011; Teschner et al., VMV 2003 (spatial hashing).
-#include "collision/pipeline.h"
-
+#include "collision/margins.h"
 #include "collision/overlap_recovery.h"
-#include "util/check.h"
+#include "collision/pipeline.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace ffd::detail {
-
-float skinOf(const CollisionWorld& w, const CollisionBody& b) {
-    return w.settings.contactSkin * b.cellSize;
-}
 
 namespace {
 
@@ -27,66 +25,6 @@ constexpr float kReferenceTolerance = 0.1f;
 // frames, enhanced, side by side): 0 (every fast node in every cell its cube meets) 1.42x and
 // 1.39x the time, 1/8 1.21x and 1.17x, 1/4 1.07x and 1.19x, 1/2 1.06x and 1.40x.
 constexpr float kReachAllowance = 0.25f;
-
-// How far any node of a body can travel in one substep, as |V| + D (mean velocity and largest
-// deviation from it; a node is a convex blend of its cell's particles, so none is faster than
-// the fastest particle, and none of those is faster than |V| + D).
-float reachOf(const CollisionWorld& w, const CollisionBody& b) {
-    return w.substep * (length(b.meanVelocity) + b.spread);
-}
-
-// Contact margin between a node of A and a box of B: B's skin plus how far the two can close
-// in one substep (speculative contacts: found before they touch, so the velocity solve can
-// stop them at the surface however fast they come). Any point of A moves relative to any point
-// of B by at most |V_A - V_B| + D_A + D_B (mean velocities and largest deviations from them):
-// bodies falling together get a thin margin.
-float marginOf(const CollisionWorld& w, const CollisionBody& a, const CollisionBody& b) {
-    return skinOf(w, b) +
-           w.substep * (length(a.meanVelocity - b.meanVelocity) + a.spread + b.spread);
-}
-
-// The margin is never more than B's skin plus each body's own reach, reachOf(A) + reachOf(B)
-// (|V_A - V_B| + D_A + D_B <= |V_A| + D_A + |V_B| + D_B). Finding the node/box pairs to test by
-// these per-body terms makes what a box queries and how far a node reaches depend on their own
-// bodies only: every mode tests the same node/box pairs for a pair of bodies, whichever other
-// bodies it also tests, and the pair's margin then decides (findObjectContacts).
-
-// A body's share of the largest margin phase 1 may allow its pairs (twice its skin and reach:
-// 2 marginOf(A, B) <= 2 (max(skin A, skin B) + reach A + reach B)), for the sweep's window.
-float sweepMargin(const CollisionWorld& w, const CollisionBody& b) {
-    return 2.0f * (skinOf(w, b) + reachOf(w, b));
-}
-
-// Push-out of deep overlap: what the projections leave of a contact's overlap in this substep
-// (Contact::tolerated), so that it goes at a bounded speed, by moving positions, and the rigid
-// phase leaves the contact out. Removed at once, deep overlap became a dent that shape matching
-// restored at depth / substep, and the rigid phase turned that speed into rigid motion: 200
-// overlapping spheres left at 44 m/s, two spheres created 5 cm into each other at 8 m/s
-// (docs/ALGORITHM.md, "Overlap recovery" and "Push-out"). Pairs placed overlapping
-// (overlap_recovery.h) lose at most WorldSettings::overlapRecoverySpeed x substep per substep;
-// with WorldSettings::pushOutSpeed (0 by default: none) every contact deeper than the skin plus
-// pushOutSpeed x substep loses at most that depth.
-float toleratedOverlap(const CollisionWorld& w, const CollisionBody& b, float distance,
-                       uint32_t bodyA, uint32_t bodyB) {
-    // Pairs placed overlapping: at most the recovery speed x substep of overlap per substep.
-    const float recovery = w.settings.overlapRecoverySpeed * w.substep;
-    if (recovery > 0 && distance < -recovery && isRecovering(w, bodyA, bodyB))
-        return distance + recovery;
-    if (w.settings.pushOutSpeed == 0) return 0.0f;
-    const float depth = skinOf(w, b) + w.settings.pushOutSpeed * w.substep;
-    return distance < -depth ? distance + depth : 0.0f;
-}
-
-// Sets the contact's push-out: the overlap it keeps for later substeps and whether it does.
-void setPushOut(const CollisionWorld& w, const CollisionBody& b, uint32_t bodyA, uint32_t bodyB,
-                Contact& c) {
-    c.tolerated = toleratedOverlap(w, b, c.distance, bodyA, bodyB);
-    c.pushedOut = c.tolerated < 0;
-}
-
-float combineFriction(const CollisionBody& a, const CollisionBody& b) {
-    return std::sqrt(a.friction * b.friction);
-}
 
 // Local coordinates, in the cell of box `box` of body B, of point q (on or near the box):
 // the box's trilinear map inverted by Newton, started from its linearised map (close for all
@@ -239,225 +177,7 @@ void sortContacts(std::span<const std::span<const Contact>> sources, std::vector
     out.swap(sorted);
 }
 
-bool spheresOverlap(const CollisionWorld& w, uint32_t i, uint32_t j) {
-    const CollisionBody& a = w.bodies[i];
-    const CollisionBody& b = w.bodies[j];
-    // The narrow phase accepts nodes up to one margin outside a box's node bounds, which is
-    // within sqrt(3) margins of the sphere: allow twice the larger margin so the test stays
-    // conservative and the modes find identical contacts.
-    const float margin = 2.0f * maxNum(marginOf(w, a, b), marginOf(w, b, a));
-    const float r = a.sphereRadius + b.sphereRadius + margin;
-    return lengthSquared(a.sphereCentre - b.sphereCentre) < r * r;
-}
-
 } // namespace
-
-void rebuildCollisionTopology(CollisionWorld& w) {
-    CollisionState& s = w.collision;
-    const size_t boxes = w.boxBounds.size();
-    s.boxBody.resize(boxes);
-    s.nodeBody.resize(boxes * 8);
-    s.planes.resize(boxes);
-    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const CollisionBody& r = w.bodies[b];
-        for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
-            s.boxBody[k] = b;
-            for (int n = 0; n < 8; ++n) s.nodeBody[size_t(k) * 8 + n] = b;
-        }
-    }
-    s.isCandidate.assign(w.bodies.size(), 0);
-    s.bodyFirstParticle.resize(w.bodies.size());
-    s.bodyParticleCount.resize(w.bodies.size());
-    for (size_t b = 0; b < w.bodies.size(); ++b) {
-        s.bodyFirstParticle[b] = w.bodies[b].firstParticle;
-        s.bodyParticleCount[b] = w.bodies[b].particleCount;
-    }
-}
-
-void forgetBoxes(CollisionWorld& w, uint32_t first, uint32_t count) {
-    // Renumbering both boxes down by the same count (or only the higher one) keeps the order
-    // of the keys, so they stay sorted.
-    std::erase_if(w.collision.claims, [&](BoxPairClaim& c) {
-        uint32_t box[2] = {uint32_t(c.key >> 32), uint32_t(c.key)};
-        bool gone = false;
-        for (uint32_t& b : box) {
-            gone = gone || (b >= first && b < first + count);
-            if (b >= first + count) b -= count;
-        }
-        c.key = uint64_t(box[0]) << 32 | box[1];
-        return gone;
-    });
-}
-
-void updateNodes(CollisionWorld& w, size_t firstBody, size_t lastBody) {
-    for (size_t b = firstBody; b < lastBody; ++b) {
-        CollisionBody& r = w.bodies[b];
-        const Lattice& L = *r.lattice;
-        std::span<const Vec3> x(w.x.data() + r.firstParticle, r.particleCount);
-        std::span<Vec3> nodes(w.nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8);
-        updateBoxNodes(L, x, nodes);
-        float speed2 = 0;
-        Vec3 momentum{};
-        float mass = 0;
-        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) {
-            speed2 = maxNum(speed2, lengthSquared(w.v[i]));
-            const float m = 1.0f / w.invMass[i];
-            momentum += w.v[i] * m;
-            mass += m;
-        }
-        r.maxSpeed = std::sqrt(speed2);
-        r.meanVelocity = momentum / mass;
-        float spread2 = 0;
-        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-            spread2 = maxNum(spread2, lengthSquared(w.v[i] - r.meanVelocity));
-        r.spread = std::sqrt(spread2);
-        Aabb body;
-        for (uint32_t k = 0; k < r.boxCount; ++k) {
-            Aabb box;
-            for (int n = 0; n < 8; ++n) box.add(nodes[size_t(k) * 8 + n]);
-            w.boxBounds[r.firstBox + k] = box;
-            body.add(box);
-        }
-        r.bounds = body;
-    }
-}
-
-void sphereTestAllPairs(CollisionWorld& w, std::vector<CandidatePair>& out) {
-    out.clear();
-    const uint32_t n = uint32_t(w.bodies.size());
-    for (uint32_t i = 0; i < n; ++i)
-        for (uint32_t j = i + 1; j < n; ++j)
-            if (spheresOverlap(w, i, j)) out.push_back({i, j});
-}
-
-void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
-    out.clear();
-    const uint32_t n = uint32_t(w.bodies.size());
-    std::vector<uint32_t>& order = w.collision.sweepOrder;
-    std::vector<float>& lo = w.collision.sweepLo;
-    std::vector<float>& hi = w.collision.sweepHi;
-    order.resize(n);
-    lo.resize(n);
-    hi.resize(n);
-    // Each body's extent along x: its sphere grown by its own share of the largest margin
-    // (sweepMargin), so two spheres that pass the test always have overlapping extents,
-    // however uneven their particles' velocities. The extents are padded by a little more than
-    // the rounding of either computation can shift them.
-    for (uint32_t i = 0; i < n; ++i) {
-        const CollisionBody& r = w.bodies[i];
-        const float half = r.sphereRadius + sweepMargin(w, r);
-        const float pad = 1e-5f * (half + std::abs(r.sphereCentre.x));
-        order[i] = i;
-        lo[i] = r.sphereCentre.x - half - pad;
-        hi[i] = r.sphereCentre.x + half + pad;
-    }
-    std::sort(order.begin(), order.end(),
-              [&](uint32_t a, uint32_t b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
-    // The sweep in chunks of the sorted order on the threads, each chunk's pairs on their own.
-    constexpr uint32_t kPerChunk = 64;
-    const size_t chunks = (n + kPerChunk - 1) / kPerChunk;
-    std::vector<std::vector<CandidatePair>>& found = w.collision.sweepChunks;
-    if (found.size() < chunks) found.resize(chunks);
-    w.workers.forChunks(n, kPerChunk, [&](size_t first, size_t last, int) {
-        std::vector<CandidatePair>& pairs = found[first / kPerChunk];
-        pairs.clear();
-        for (size_t k = first; k < last; ++k) {
-            const uint32_t i = order[k];
-            for (size_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
-                const uint32_t j = order[m];
-                if (spheresOverlap(w, i, j)) pairs.push_back({std::min(i, j), std::max(i, j)});
-            }
-        }
-    });
-    for (size_t c = 0; c < chunks; ++c) out.insert(out.end(), found[c].begin(), found[c].end());
-    std::sort(out.begin(), out.end(), [](const CandidatePair& a, const CandidatePair& b) {
-        return a.a < b.a || (a.a == b.a && a.b < b.b);
-    });
-}
-
-void computeSpheres(CollisionWorld& w) {
-    // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
-    w.workers.forRange(w.bodies.size(), [&](size_t first, size_t last, int) {
-        for (size_t i = first; i < last; ++i) {
-            CollisionBody& r = w.bodies[i];
-            const Vec3 c = r.bounds.centre();
-            float r2 = 0;
-            for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
-                const Aabb& b = w.boxBounds[k];
-                const Vec3 d = max(b.hi - c, c - b.lo);
-                r2 = maxNum(r2, lengthSquared(d));
-            }
-            r.sphereCentre = c;
-            r.sphereRadius = std::sqrt(r2);
-        }
-    });
-}
-
-void sphereTest(CollisionWorld& w) {
-    computeSpheres(w);
-    CollisionState& s = w.collision;
-    if (int(w.bodies.size()) > w.settings.sweepThreshold)
-        sphereTestSweep(w, s.pairs);
-    else
-        sphereTestAllPairs(w, s.pairs);
-    // Pairs placed one inside the other find no object contacts (overlap_recovery.h).
-    if (!s.wholePairs.empty())
-        std::erase_if(s.pairs, [&](const CandidatePair& p) { return isWhole(w, p.a, p.b); });
-
-    // Partners of each body (CSR), for the hash phase's pair check.
-    const size_t n = w.bodies.size();
-    s.isCandidate.assign(n, 0);
-    s.partnerStart.assign(n + 1, 0);
-    for (const CandidatePair& p : s.pairs) ++s.partnerStart[p.a + 1], ++s.partnerStart[p.b + 1];
-    for (size_t i = 0; i < n; ++i) s.partnerStart[i + 1] += s.partnerStart[i];
-    s.partners.resize(s.pairs.size() * 2);
-    std::vector<uint32_t>& fill = s.sweepOrder;
-    fill.assign(s.partnerStart.begin(), s.partnerStart.end() - 1);
-    for (const CandidatePair& p : s.pairs) {
-        s.partners[fill[p.a]++] = p.b;
-        s.partners[fill[p.b]++] = p.a;
-        s.isCandidate[p.a] = s.isCandidate[p.b] = 1;
-    }
-}
-
-void findFloorContacts(CollisionWorld& w) {
-    CollisionState& s = w.collision;
-    s.all.resize(s.objectCount);
-    w.profile.floorContacts = 0;
-    if (!w.settings.floor) return;
-    // On one thread: the contacts are few per body and cheap to make, and on several threads
-    // their copies into place cost more than making them (measured on alphabets).
-    const float floorY = w.settings.floorHeight;
-    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const CollisionBody& r = w.bodies[b];
-        const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
-        if (r.bounds.lo.y >= floorY + skin) continue;
-        const Lattice& L = *r.lattice;
-        for (uint32_t k = 0; k < r.boxCount; ++k) {
-            if (w.boxBounds[r.firstBox + k].lo.y >= floorY + skin) continue;
-            const CellBox& box = L.boxes[k];
-            for (int n = 0; n < 8; ++n) {
-                const uint32_t node = (r.firstBox + k) * 8 + uint32_t(n);
-                const float y = w.nodes[node].y;
-                if (y >= floorY + skin) continue;
-                Contact c;
-                c.bodyA = b;
-                c.nodeA = node;
-                c.normal = {0, 1, 0};
-                c.offset = floorY;
-                c.distance = y - floorY;
-                setPushOut(w, r, b, kFloorBody, c);
-                c.friction = r.friction;
-                c.restitution = r.restitution;
-                c.rigidity = r.contactRigidity;
-                makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
-                                 box.nodeLocal(n), w.invMass, c.a, c.invMassA);
-                s.all.push_back(c);
-            }
-        }
-    }
-    w.profile.floorContacts = int(s.all.size() - s.objectCount);
-}
 
 void findObjectContacts(CollisionWorld& w, CollisionMode mode, std::vector<Contact>& out,
                         int& outPotential) {
@@ -746,66 +466,6 @@ void findAllObjectContacts(CollisionWorld& w) {
     std::swap(s.claims, s.nextClaims);
     s.objectCount = s.all.size();
     w.profile.contacts = int(s.objectCount);
-}
-
-namespace {
-
-// The solver's zones (contact.h, buildSolverSchedule): each body's cell on a grid over x and
-// z as wide as the widest body, so that bodies in contact lie in the same or neighbouring
-// cells. It depends on the positions alone, never on the thread count.
-void scheduleContacts(CollisionWorld& w) {
-    CollisionState& s = w.collision;
-    float width = 0;
-    for (const CollisionBody& r : w.bodies) {
-        const Vec3 e = r.bounds.extent();
-        width = maxNum(width, maxNum(e.x, e.z));
-    }
-    if (!(width > 0) || !std::isfinite(width)) width = 1;
-    const float inverse = 1.0f / width;
-    std::vector<ZoneCell>& cells = s.solver.cells;
-    cells.resize(w.bodies.size());
-    for (size_t b = 0; b < w.bodies.size(); ++b) {
-        const Vec3 c = w.bodies[b].bounds.centre() * inverse;
-        constexpr float kRange = 1 << 29;
-        if (std::abs(c.x) < kRange && std::abs(c.z) < kRange)
-            cells[b] = {int32_t(std::floor(c.x)), int32_t(std::floor(c.z))};
-        else
-            cells[b] = {ZoneCell::kNowhere, ZoneCell::kNowhere};
-    }
-    buildSolverSchedule(s.all, cells, s.solver.schedule, w.workers);
-}
-
-} // namespace
-
-void respondBeforeMove(CollisionWorld& w, float dt) {
-    CollisionState& s = w.collision;
-    if (s.all.empty()) return;
-    scheduleContacts(w);
-#if FFD_CHECKS
-    const std::string contacts =
-        contactProblem(s.all, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount);
-    FFD_CHECK(contacts.empty(), "contacts: " + contacts);
-    const std::string schedule = scheduleProblem(s.all, s.solver.schedule, w.bodies.size());
-    FFD_CHECK(schedule.empty(), "solver schedule: " + schedule);
-#endif
-    const int iterations = w.settings.solverIterations;
-    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver,
-                          w.workers);
-    const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
-                    s.bodyParticleCount, dt, impact, w.settings.maxSeparationSpeed, iterations,
-                    s.solver, w.workers);
-}
-
-float respondAfterMove(CollisionWorld& w, float dt) {
-    CollisionState& s = w.collision;
-    if (s.all.empty()) return 0;
-    const int iterations = w.settings.solverIterations;
-    const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver,
-                          w.workers);
-    return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,
-                                  w.bodies.size(), s.solver, w.workers);
 }
 
 } // namespace ffd::detail
