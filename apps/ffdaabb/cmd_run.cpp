@@ -38,9 +38,10 @@ Scene sceneFromOptions(const std::string& name, int objects, const std::string& 
         throw InputError("--mode", "unknown mode \"" + mode +
                                        "\" (expected enhanced, previous, brute or none)");
     if (threads >= 0) {
-        if (threads > 1024)
+        const SettingRange& range = *findSettingRange("threads");
+        if (threads > range.max)
             throw InputError("--threads", "value " + std::to_string(threads) +
-                                              " is out of range (expected 0 (all cores)..1024)");
+                                              " is out of range (expected " + range.expected + ")");
         scene.world.threads = threads;
     }
     if (seed >= 0) {

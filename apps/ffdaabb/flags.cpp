@@ -26,24 +26,36 @@ std::string range(long long lo, long long hi) {
     return std::to_string(lo) + ".." + std::to_string(hi);
 }
 
-} // namespace
-
-long long parseInteger(const std::string& flag, const std::string& text, long long lo,
-                       long long hi) {
+// The whole number in `text`, in [lo, hi]; `expected` says the range in the message.
+long long parseIntegerIn(const std::string& flag, const std::string& text, long long lo,
+                         long long hi, const std::string& expected) {
     long long value = 0;
     const char* first = text.data();
     const char* last = text.data() + text.size();
     const auto [end, ec] = std::from_chars(first, last, value);
     if (ec == std::errc::result_out_of_range)
-        throw InputError(flag, "value " + quoted(text) + " is out of range (expected " +
-                                   range(lo, hi) + ")");
+        throw InputError(flag,
+                         "value " + quoted(text) + " is out of range (expected " + expected + ")");
     if (text.empty() || ec != std::errc() || end != last)
         throw InputError(flag, "value " + quoted(text) + " is not a whole number (expected " +
-                                   range(lo, hi) + ")");
+                                   expected + ")");
     if (value < lo || value > hi)
         throw InputError(flag, "value " + std::to_string(value) + " is out of range (expected " +
-                                   range(lo, hi) + ")");
+                                   expected + ")");
     return value;
+}
+
+} // namespace
+
+long long parseInteger(const std::string& flag, const std::string& text, long long lo,
+                       long long hi) {
+    return parseIntegerIn(flag, text, lo, hi, range(lo, hi));
+}
+
+long long parseIntegerSetting(const std::string& flag, const std::string& text,
+                              const char* setting) {
+    const SettingRange& r = *findSettingRange(setting);
+    return parseIntegerIn(flag, text, (long long)r.min, (long long)r.max, r.expected);
 }
 
 double parseNumber(const std::string& flag, const std::string& text, double lo, double hi,
@@ -70,8 +82,10 @@ void addSceneFlags(CLI::App* cmd, SceneFlags& f, bool threads) {
     f.modeOption =
         cmd->add_option("--mode", f.mode, "Collision mode: enhanced, previous, brute or none");
     if (threads)
-        f.threadsOption = cmd->add_option(
-            "--threads", f.threads, "Worker threads, 0 (all cores)..1024 (default: the scene's)");
+        f.threadsOption =
+            cmd->add_option("--threads", f.threads,
+                            std::string("Worker threads, ") +
+                                findSettingRange("threads")->expected + " (default: the scene's)");
     f.seedOption =
         cmd->add_option("--seed", f.seed, "Layout seed, 0..2147483647 (default: the scene's)");
 }
@@ -86,7 +100,7 @@ Scene sceneFromFlags(const SceneFlags& f) {
         throw InputError("--mode", "unknown mode " + quoted(f.mode) +
                                        " (expected enhanced, previous, brute or none)");
     const int threads =
-        given(f.threadsOption) ? int(parseInteger("--threads", f.threads, 0, 1024)) : -1;
+        given(f.threadsOption) ? int(parseIntegerSetting("--threads", f.threads, "threads")) : -1;
     const long long seed = given(f.seedOption) ? parseInteger("--seed", f.seed, 0, 2147483647) : -1;
     return sceneFromOptions(f.scene, objects, given(f.modeOption) ? f.mode : "", threads, seed);
 }

@@ -15,6 +15,11 @@ namespace ffd::cli {
 long long parseInteger(const std::string& flag, const std::string& text, long long lo,
                        long long hi);
 
+/// The value in `text` of the integer setting named `setting` (ffd::findSettingRange: the
+/// library's range and its words); InputError naming `flag` otherwise.
+long long parseIntegerSetting(const std::string& flag, const std::string& text,
+                              const char* setting);
+
 /// The finite number in `text` (decimal or exponent notation), in [lo, hi]; InputError naming
 /// `flag` otherwise. `expected` describes the range in the message, e.g. "metres, > 0".
 double parseNumber(const std::string& flag, const std::string& text, double lo, double hi,

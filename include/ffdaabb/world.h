@@ -227,6 +227,24 @@ private:
     std::unique_ptr<State> state_;
 };
 
+/// A numeric setting's range: one table behind validate(), the scene reader and the command
+/// line's flags, so that all three accept and name the same values.
+struct SettingRange {
+    const char* field;    ///< the C++ member: "frameStep" (validate names "world.frameStep")
+    const char* key;      ///< the scene file's key: "frame_step" (in "world" or "material")
+    double min, max;      ///< inclusive
+    const char* expected; ///< the range in words, as errors say it: "seconds, 0 < frame_step <= 1"
+    bool integer;         ///< an int setting (else float)
+};
+
+/// The numeric WorldSettings, in declaration order.
+std::span<const SettingRange> worldSettingRanges();
+/// The numeric BodySettings (a scene's "material"), in declaration order.
+std::span<const SettingRange> bodySettingRanges();
+/// The range of a setting by its C++ member or scene key, among world then body settings; null
+/// when none has that name.
+const SettingRange* findSettingRange(std::string_view name);
+
 /// Throws InputError (naming the field) when a setting is out of range.
 void validate(const WorldSettings& settings);
 void validate(const BodySettings& settings);

@@ -3,6 +3,7 @@
 
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
+#include "world/settings_table.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 namespace ffd {
 
@@ -172,23 +174,31 @@ private:
     std::set<std::string> known_;
 };
 
+// Every numeric setting of the table (ffdaabb/world.h: SettingRange) the object gives.
+template <class Settings>
+void readRanges(Fields& f, Settings& s, std::span<const SettingRange> ranges,
+                std::span<const detail::SettingMember<Settings>> members) {
+    for (size_t i = 0; i < ranges.size(); ++i) {
+        const SettingRange& r = ranges[i];
+        std::visit(
+            [&](auto member) {
+                if constexpr (std::is_same_v<decltype(member), int Settings::*>)
+                    f.integer(r.key, s.*member, long(r.min), long(r.max), r.expected);
+                else
+                    f.number(r.key, s.*member, r.min, r.max, r.expected);
+            },
+            members[i]);
+    }
+}
+
 void readWorld(Fields f, WorldSettings& w) {
-    f.number("frame_step", w.frameStep, 1e-5, 1.0, "seconds, 0 < frame_step <= 1");
-    f.integer("substeps", w.substeps, 1, 1000, "1..1000");
+    readRanges(f, w, worldSettingRanges(), detail::worldSettingMembers());
     f.vec3("gravity", w.gravity, 1e4);
     f.boolean("floor", w.floor);
-    f.number("floor_height", w.floorHeight, -1e6, 1e6, "metres, |h| <= 1e6");
     std::string mode;
     if (f.string("mode", mode) && !parseCollisionMode(mode, w.mode))
         f.fail(f.at("mode"),
                "unknown mode \"" + mode + "\" (expected enhanced, previous, brute or none)");
-    f.number("contact_skin", w.contactSkin, 0.0, 1.0, "0..1 of a cell");
-    f.integer("solver_iterations", w.solverIterations, 1, 1000, "1..1000");
-    f.integer("threads", w.threads, 0, 1024, "0 (all cores)..1024");
-    f.integer("sweep_threshold", w.sweepThreshold, 0, 1000000000, ">= 0");
-    f.number("max_separation_speed", w.maxSeparationSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
-    f.number("push_out_speed", w.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
-    f.number("overlap_recovery_speed", w.overlapRecoverySpeed, 0.0, 1e4, "0 (at once)..1e4 m/s");
     f.finish();
 }
 
@@ -216,17 +226,8 @@ void readMaterial(Fields f, BodySettings& b) {
     if (f.string("model", model) && !parseDynamicsModel(model, b.model))
         f.fail(f.at("model"),
                "unknown model \"" + model + "\" (expected shape-matching or mass-spring)");
-    f.integer("region_half_width", b.regionHalfWidth, 1, 4, "1..4");
-    f.number("stiffness", b.stiffness, 1e-6, 1.0, "0 < stiffness <= 1");
-    f.number("youngs_modulus", b.youngsModulus, 1.0, 1e12, "Pa, 1..1e12");
-    f.integer("spring_iterations", b.springIterations, 1, 1000, "1..1000");
-    f.number("density", b.density, 1e-6, 1e6, "kg/m^3, 0 < density <= 1e6");
-    f.number("mass", b.mass, 0.0, 1e9, "kg, 0 (from density) or up to 1e9");
-    f.number("damping", b.damping, 0.0, 1e4, "per second, 0..1e4");
+    readRanges(f, b, bodySettingRanges(), detail::bodySettingMembers());
     f.boolean("region_damping", b.regionDamping);
-    f.number("friction", b.friction, 0.0, 10.0, "0..10");
-    f.number("restitution", b.restitution, 0.0, 1.0, "0..1");
-    f.number("contact_rigidity", b.contactRigidity, 0.0, 1.0, "0..1");
     f.finish();
 }
 

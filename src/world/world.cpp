@@ -5,6 +5,7 @@
 #include "collision/pipeline.h"
 #include "ffdaabb/error.h"
 #include "util/check.h"
+#include "world/settings_table.h"
 #include "world/stage_checks.h"
 #include "world/world_data.h"
 
@@ -154,36 +155,35 @@ double msSince(Clock::time_point t0) {
 
 } // namespace
 
+namespace {
+
+// Every numeric setting against the table (ffdaabb/world.h: SettingRange), named "prefix.field".
+template <class Settings>
+void requireRanges(const char* prefix, const Settings& s, std::span<const SettingRange> ranges,
+                   std::span<const detail::SettingMember<Settings>> members) {
+    for (size_t i = 0; i < ranges.size(); ++i) {
+        const SettingRange& r = ranges[i];
+        const std::string field = std::string(prefix) + "." + r.field;
+        // A float setting is compared with its bounds as floats: the bound a scene file gives
+        // (read as a double, then stored as a float) is accepted here too.
+        const double lo = r.integer ? r.min : double(float(r.min));
+        const double hi = r.integer ? r.max : double(float(r.max));
+        requireRange(field.c_str(), detail::settingValue(s, members[i]), lo, hi, r.expected);
+    }
+}
+
+} // namespace
+
 void validate(const WorldSettings& s) {
-    requireRange("world.frameStep", s.frameStep, 1e-5, 1.0, "seconds in (0, 1]");
-    requireRange("world.substeps", s.substeps, 1, 1000, "1..1000");
+    requireRanges("world", s, worldSettingRanges(), detail::worldSettingMembers());
     requireFinite("world.gravity", s.gravity);
-    requireRange("world.floorHeight", s.floorHeight, -1e6, 1e6, "a finite height");
-    requireRange("world.contactSkin", s.contactSkin, 0.0, 1.0, "0..1 of a cell");
-    requireRange("world.solverIterations", s.solverIterations, 1, 1000, "1..1000");
-    requireRange("world.threads", s.threads, 0, 1024, "0 (all cores)..1024");
-    requireRange("world.sweepThreshold", s.sweepThreshold, 0, 1e9, ">= 0");
-    requireRange("world.maxSeparationSpeed", s.maxSeparationSpeed, 0.0, 1e4,
-                 "0 (no bound)..1e4 m/s");
-    requireRange("world.pushOutSpeed", s.pushOutSpeed, 0.0, 1e4, "0 (no bound)..1e4 m/s");
-    requireRange("world.overlapRecoverySpeed", s.overlapRecoverySpeed, 0.0, 1e4,
-                 "0 (at once)..1e4 m/s");
     if (s.mode != CollisionMode::Enhanced && s.mode != CollisionMode::Previous &&
         s.mode != CollisionMode::Brute && s.mode != CollisionMode::None)
         throw InputError("world.mode", "unknown collision mode");
 }
 
 void validate(const BodySettings& s) {
-    requireRange("body.regionHalfWidth", s.regionHalfWidth, 1, 4, "1..4");
-    requireRange("body.stiffness", s.stiffness, 1e-6, 1.0, "(0, 1]");
-    requireRange("body.youngsModulus", s.youngsModulus, 1.0, 1e12, "1..1e12 Pa");
-    requireRange("body.springIterations", s.springIterations, 1, 1000, "1..1000");
-    requireRange("body.density", s.density, 1e-6, 1e6, "kg/m^3 in (0, 1e6]");
-    requireRange("body.mass", s.mass, 0.0, 1e9, "0 (from density) or kg up to 1e9");
-    requireRange("body.damping", s.damping, 0.0, 1e4, "0..1e4 per second");
-    requireRange("body.friction", s.friction, 0.0, 10.0, "0..10");
-    requireRange("body.restitution", s.restitution, 0.0, 1.0, "0..1");
-    requireRange("body.contactRigidity", s.contactRigidity, 0.0, 1.0, "0..1");
+    requireRanges("body", s, bodySettingRanges(), detail::bodySettingMembers());
     requireFinite("body.position", s.position);
     requireFinite("body.velocity", s.velocity);
     requireFinite("body.angularVelocity", s.angularVelocity);

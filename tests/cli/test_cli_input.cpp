@@ -178,7 +178,7 @@ TEST(CliInput, RunNumericFlags) {
         {{"--objects", "-3"}, {"--objects", "-3"}},
         {{"--objects", "100001"}, {"--objects", "100001"}},
         {{"--objects", "ten"}, {"--objects", "\"ten\""}},
-        {{"--threads", "-1"}, {"--threads", "-1", "0..1024"}},
+        {{"--threads", "-1"}, {"--threads", "-1", "0 (all cores)..1024"}},
         {{"--threads", "5000"}, {"--threads", "5000"}},
         {{"--seed", "-1"}, {"--seed", "-1", "0..2147483647"}},
         {{"--seed", "4294967296"}, {"--seed", "4294967296"}},

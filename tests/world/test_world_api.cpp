@@ -4,6 +4,7 @@
 #include "ffdaabb/world.h"
 
 #include "test_support.h"
+#include "world/settings_table.h"
 
 #include <gtest/gtest.h>
 
@@ -281,4 +282,45 @@ TEST(WorldApi, ThreadCountDoesNotChangeTheResult) {
     EXPECT_EQ(run(2), one);
     EXPECT_EQ(run(4), one);
     EXPECT_EQ(run(0), one);
+}
+
+// One table of setting ranges serves validate(), the scene reader and the command line: its
+// entries describe their members, the defaults lie in range, and each bound is where validate
+// starts to refuse.
+TEST(WorldApi, TheSettingRangesDescribeTheirMembersAndValidateByThem) {
+    auto check = [](auto defaults, std::span<const SettingRange> ranges, const auto& members,
+                    const char* prefix) {
+        using Settings = decltype(defaults);
+        ASSERT_EQ(ranges.size(), members.size());
+        for (size_t i = 0; i < ranges.size(); ++i) {
+            const SettingRange& r = ranges[i];
+            EXPECT_EQ(std::holds_alternative<int Settings::*>(members[i]), r.integer) << r.field;
+            EXPECT_EQ(findSettingRange(r.field), &r);
+            EXPECT_EQ(findSettingRange(r.key), &r);
+            const double value = detail::settingValue(defaults, members[i]);
+            EXPECT_TRUE(value >= r.min && value <= r.max) << r.field << " default " << value;
+            // Just outside each bound, validate names the field; on the bound it accepts.
+            for (const double bound : {r.min, r.max}) {
+                Settings s = defaults;
+                std::visit([&](auto m) { s.*m = std::remove_reference_t<decltype(s.*m)>(bound); },
+                           members[i]);
+                EXPECT_NO_THROW(validate(s)) << r.field << " = " << bound;
+                const double out = bound == r.min
+                                       ? r.min - (r.integer ? 1.0 : 1e-3 * (1 + std::abs(r.min)))
+                                       : r.max + (r.integer ? 1.0 : 1e-3 * (1 + std::abs(r.max)));
+                std::visit([&](auto m) { s.*m = std::remove_reference_t<decltype(s.*m)>(out); },
+                           members[i]);
+                try {
+                    validate(s);
+                    ADD_FAILURE() << r.field << " = " << out << " accepted";
+                } catch (const InputError& e) {
+                    EXPECT_EQ(e.source(), std::string(prefix) + "." + r.field);
+                    EXPECT_NE(std::string(e.what()).find(r.expected), std::string::npos);
+                }
+            }
+        }
+    };
+    check(WorldSettings{}, worldSettingRanges(), detail::worldSettingMembers(), "world");
+    check(BodySettings{}, bodySettingRanges(), detail::bodySettingMembers(), "body");
+    EXPECT_EQ(findSettingRange("no_such_setting"), nullptr);
 }
