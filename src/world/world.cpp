@@ -7,6 +7,7 @@
 #include "util/check.h"
 #include "world/settings_table.h"
 #include "world/stage_checks.h"
+#include "world/stages.h"
 #include "world/world_data.h"
 
 #include <chrono>
@@ -19,7 +20,6 @@ namespace ffd {
 
 using detail::BodyModel;
 using detail::BodyRecord;
-using detail::DynamicsBatch;
 using detail::WorldData;
 
 const char* toString(CollisionMode mode) {
@@ -120,32 +120,6 @@ std::shared_ptr<const BodyModel> buildModel(const TriangleMesh& mesh, const Body
     model->volume =
         meshVolume > 0 ? float(meshVolume) : float(double(model->lattice.cellCount()) * h * h * h);
     return model;
-}
-
-// Groups the shape-matching bodies of each model (without region damping) four at a time, in
-// body order; every other body is a batch of its own.
-void rebuildDynamicsBatches(WorldData& w) {
-    w.dynamicsBatches.clear();
-    std::map<const BodyModel*, size_t> open; // model -> its batch still filling
-    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const BodyRecord& r = w.bodies[b];
-        const bool lanes =
-            r.model->dynamics == DynamicsModel::ShapeMatching && !r.settings.regionDamping;
-        if (lanes) {
-            auto it = open.find(r.model.get());
-            if (it != open.end() && w.dynamicsBatches[it->second].count < 4) {
-                DynamicsBatch& batch = w.dynamicsBatches[it->second];
-                batch.body[batch.count++] = b;
-                continue;
-            }
-            open[r.model.get()] = w.dynamicsBatches.size();
-        }
-        DynamicsBatch batch;
-        batch.body[0] = b;
-        batch.count = 1;
-        batch.lanes = lanes;
-        w.dynamicsBatches.push_back(batch);
-    }
 }
 
 using Clock = std::chrono::steady_clock;
@@ -285,7 +259,7 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     w.bodies.push_back(std::move(r));
     w.collision.bodies.emplace_back(); // placed: its overlaps will be remembered
     detail::syncCollisionBodies(w);
-    rebuildDynamicsBatches(w);
+    detail::rebuildDynamicsBatches(w);
     const BodyId id{slot, w.slots[slot].generation};
     updateMesh(id);
     return id;
@@ -328,7 +302,7 @@ bool World::removeBody(BodyId id) {
     detail::forgetBoxes(view, r.firstBox, r.boxCount);
     w.collision.bodies.erase(w.collision.bodies.begin() + dense);
     detail::syncCollisionBodies(w);
-    rebuildDynamicsBatches(w);
+    detail::rebuildDynamicsBatches(w);
     return true;
 }
 
@@ -376,93 +350,6 @@ void requireParticle(const BodyRecord& r, uint32_t particle) {
                                          std::to_string(r.particleCount) + " particles)");
 }
 
-// Runs fn(first, last, scratch) over the items [0, n), split across the world's threads.
-template <class F>
-void forEachItem(WorldData& w, size_t n, F&& fn) {
-    const size_t slots = size_t(w.workers.count());
-    if (w.scratch.size() < slots) w.scratch.resize(slots);
-    // Items are independent in these stages, so any split gives bit-identical results.
-    w.workers.forRange(
-        n, [&](size_t first, size_t last, int slot) { fn(first, last, w.scratch[size_t(slot)]); });
-}
-
-// Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
-template <class F>
-void forEachBody(WorldData& w, F&& fn) {
-    forEachItem(w, w.bodies.size(), std::forward<F>(fn));
-}
-
-// The external part of a body's substep: point forces through the particles' own masses, and
-// the uniform acceleration (gravity, body forces) the model applies with its internal forces.
-Vec3 externalKick(WorldData& w, BodyRecord& r, float dt) {
-    const size_t p0 = r.firstParticle;
-    for (size_t i = 0; i < r.particleCount; ++i) {
-        const Vec3 f = w.particleForce[p0 + i];
-        if (f.x != 0 || f.y != 0 || f.z != 0) w.v[p0 + i] += f * (dt * w.invMass[p0 + i]);
-    }
-    // Leapfrog start for the constant acceleration (gravity); user forces act in full.
-    const Vec3 accel = w.settings.gravity * (r.halfKick ? 0.5f : 1.0f) + r.force / r.mass;
-    r.halfKick = false;
-    return accel;
-}
-
-void dynamicsStage(WorldData& w, float dt) {
-    const int rotationIterations = detail::ShapeMatchingStep{}.rotationIterations;
-    forEachItem(w, w.dynamicsBatches.size(),
-                [&](size_t first, size_t last, detail::ThreadScratch& scratch) {
-                    for (size_t k = first; k < last; ++k) {
-                        const detail::DynamicsBatch& batch = w.dynamicsBatches[k];
-                        if (batch.lanes) {
-                            detail::ShapeMatchingLane lanes[4];
-                            for (uint32_t l = 0; l < batch.count; ++l) {
-                                BodyRecord& r = w.bodies[batch.body[l]];
-                                const size_t p0 = r.firstParticle, np = r.particleCount;
-                                lanes[l].acceleration = externalKick(w, r, dt);
-                                lanes[l].x = std::span<const Vec3>(w.x.data() + p0, np);
-                                lanes[l].v = std::span<Vec3>(w.v.data() + p0, np);
-                                lanes[l].rotations = std::span<Quat>(w.rotations.data() + p0, np);
-                                lanes[l].rotationSteps =
-                                    std::span<Quat>(w.rotationSteps.data() + p0, np);
-                                lanes[l].stiffness = r.settings.stiffness;
-                                lanes[l].damping = 1.0f - std::exp(-r.settings.damping * dt);
-                            }
-                            stepShapeMatching4(w.bodies[batch.body[0]].model->shapeMatching, dt,
-                                               rotationIterations, lanes, int(batch.count),
-                                               scratch.shapeMatching);
-                            continue;
-                        }
-                        BodyRecord& r = w.bodies[batch.body[0]];
-                        const size_t p0 = r.firstParticle, np = r.particleCount;
-                        std::span<Vec3> x(w.x.data() + p0, np), v(w.v.data() + p0, np);
-                        const Vec3 accel = externalKick(w, r, dt);
-                        const float damping = 1.0f - std::exp(-r.settings.damping * dt);
-                        if (r.model->dynamics == DynamicsModel::ShapeMatching) {
-                            detail::ShapeMatchingStep step;
-                            step.dt = dt;
-                            step.stiffness = r.settings.stiffness;
-                            step.damping = damping;
-                            step.regionDamping = r.settings.regionDamping;
-                            step.acceleration = accel;
-                            step.integratePositions = false;
-                            stepShapeMatching(r.model->shapeMatching, step, x, v,
-                                              std::span<Quat>(w.rotations.data() + p0, np),
-                                              scratch.shapeMatching);
-                        } else {
-                            detail::MassSpringStep step;
-                            step.dt = dt;
-                            step.youngsModulus = r.settings.youngsModulus;
-                            step.damping = damping;
-                            step.acceleration = accel;
-                            step.iterations = r.settings.springIterations;
-                            step.integratePositions = false;
-                            stepMassSpring(r.model->springs, step,
-                                           std::span<const float>(w.invMass.data() + p0, np), x, v,
-                                           scratch.massSpring);
-                        }
-                    }
-                });
-}
-
 } // namespace
 
 namespace {
@@ -475,12 +362,6 @@ void timed(Profile& profile, Stage stage, F&& run) {
     profile.stageMs[size_t(stage)] += msSince(start);
 }
 
-void updateNodesStage(WorldData& w, detail::CollisionWorld& view) {
-    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-        detail::updateNodes(view, first, last);
-    });
-}
-
 // Phase 1 in enhanced mode; the other modes pass every pair on (and spend nothing here).
 void sphereTestStage(WorldData& w, detail::CollisionWorld& view) {
     if (w.settings.mode == CollisionMode::Enhanced) {
@@ -490,27 +371,6 @@ void sphereTestStage(WorldData& w, detail::CollisionWorld& view) {
         const size_t n = w.bodies.size();
         w.profile.candidatePairs = int(n * (n - (n > 0)) / 2);
     }
-}
-
-void positionStage(WorldData& w, float dt) {
-    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-        for (size_t b = first; b < last; ++b) {
-            const BodyRecord& r = w.bodies[b];
-            for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-                w.x[i] += w.v[i] * dt;
-        }
-    });
-}
-
-void meshStage(WorldData& w) {
-    forEachBody(w, [&](size_t first, size_t last, detail::ThreadScratch&) {
-        for (size_t b = first; b < last; ++b) {
-            const BodyRecord& r = w.bodies[b];
-            deformVertices(r.model->lattice,
-                           std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
-                           std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
-        }
-    });
 }
 
 } // namespace
@@ -529,10 +389,10 @@ void World::step() {
     detail::CollisionWorld view = detail::collisionView(w);
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
-        timed(prof, Stage::Dynamics, [&] { dynamicsStage(w, dt); });
+        timed(prof, Stage::Dynamics, [&] { detail::latticeDynamicsStage(w, dt); });
         FFD_CHECK(detail::particleProblem(w).empty(),
                   "after lattice_dynamics: " + detail::particleProblem(w));
-        timed(prof, Stage::NodeUpdate, [&] { updateNodesStage(w, view); });
+        timed(prof, Stage::NodeUpdate, [&] { detail::nodeUpdateStage(w, view); });
         FFD_CHECK(detail::nodeProblem(w).empty(), "after node_update: " + detail::nodeProblem(w));
         timed(prof, Stage::OverlapRecovery, [&] {
             w.collision.pairs.clear();
@@ -550,13 +410,13 @@ void World::step() {
             prof.wholePairs = int(w.collision.wholePairs.size());
         });
         timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(view, dt); });
-        timed(prof, Stage::PositionUpdate, [&] { positionStage(w, dt); });
+        timed(prof, Stage::PositionUpdate, [&] { detail::positionUpdateStage(w, dt); });
         timed(prof, Stage::ResponseAfterMove,
               [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
     }
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
-    if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { meshStage(w); });
+    if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
     FFD_CHECK(detail::meshProblem(w).empty(), "after mesh_update: " + detail::meshProblem(w));
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
