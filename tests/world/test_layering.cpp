@@ -1,5 +1,6 @@
 // The library's layering: the collision stages see the world only through the view it hands
-// them (collision/body.h), and the public headers keep the world's data private.
+// them (collision/body.h), the public headers keep the world's data private, and the renderer,
+// the viewer and the command line go through the public interface.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -37,6 +38,12 @@ std::string filesContaining(const char* dir, const std::string& needle) {
 TEST(Layering, CollisionIncludesNoWorldHeader) {
     EXPECT_EQ(filesContaining("src/collision", "#include \"world/"), "");
     EXPECT_EQ(filesContaining("src/collision", "WorldData"), "");
+}
+
+TEST(Layering, TheRendererViewerAndToolUseThePublicInterface) {
+    for (const char* dir : {"src/render", "apps/ffdaabb"})
+        for (const char* internal : {"#include \"world/", "#include \"collision/", "WorldData"})
+            EXPECT_EQ(filesContaining(dir, internal), "") << dir << ": " << internal;
 }
 
 TEST(Layering, PublicHeadersKeepTheWorldsDataPrivate) {
