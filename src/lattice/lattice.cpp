@@ -58,7 +58,7 @@ Grid makeGrid(const Aabb& box, float h) {
     int64_t total = 1;
     for (int a = 0; a < 3; ++a) {
         const double n = std::ceil(double(extent[a]) / double(h));
-        if (n > double(kMaxGridCells))
+        if (!(n <= double(kMaxGridCells))) // NaN too
             throw InputError("lattice.cellSize",
                              "cell size " + describe(h) + " is too small for an object of extent " +
                                  describe(extent[a]) + " (the grid would be too large)");

@@ -240,6 +240,18 @@ void validate(const TriangleMesh& mesh, const std::string& source) {
             throw InputError(source, buf);
         }
     }
+    // Finite coordinates can still span more than a float holds (-3e38 to 3e38): every size
+    // and cell count derived from the extent would overflow.
+    const Aabb box = bounds(mesh);
+    if (!isFinite(box.extent())) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "the mesh spans from (%g, %g, %g) to (%g, %g, %g), an extent too large to "
+                      "represent; expected coordinates well within +-1e38",
+                      double(box.lo.x), double(box.lo.y), double(box.lo.z), double(box.hi.x),
+                      double(box.hi.y), double(box.hi.z));
+        throw InputError(source, buf);
+    }
     const size_t n = mesh.positions.size();
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
         for (uint32_t v : mesh.triangles[t])

@@ -3,6 +3,7 @@
 // an InputError that names the file.
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/lattice.h"
 #include "ffdaabb/mesh.h"
 #include "support/test_support.h"
 
@@ -545,6 +546,20 @@ TEST(LoadMeshErrors, NonFiniteCoordinatesNameTheVertex) {
 }
 
 // --- absurd counts ---------------------------------------------------------------------------
+
+// Finite coordinates whose extent a float cannot hold (found by fuzzing a binary STL with
+// vertices at -3.4e38 and 3.4e38: the lattice's grid size became NaN): refused with the span.
+TEST(LoadMeshErrors, AnExtentBeyondFloatIsRefused) {
+    TempDir dir;
+    const std::string huge =
+        replaceAll(replaceAll(objCube(), "v 1 1 1", "v 1 3e38 1"), "v 0 0 0", "v 0 -3e38 0");
+    expectError(dir, "huge.obj", huge, "extent too large");
+    TriangleMesh mesh = icosphere(1);
+    mesh.positions[0].x = -3e38f;
+    mesh.positions[1].x = 3e38f;
+    EXPECT_THROW(validate(mesh, "mesh"), InputError);
+    EXPECT_THROW(buildLattice(mesh, LatticeSettings{}), InputError);
+}
 
 TEST(LoadMeshErrors, AbsurdCountsAreRejectedBeforeAllocating) {
     TempDir dir;
