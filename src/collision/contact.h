@@ -40,8 +40,11 @@
 #include "ffdaabb/math.h"
 #include "util/workers.h"
 
+#include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace ffd::detail {
@@ -86,6 +89,32 @@ struct Contact {
     /// Penetration when detected, metres (>= 0).
     float depth() const { return maxNum(0.0f, -distance); }
 };
+
+/// Storage that leaves the elements a resize adds unwritten, for arrays each of whose new
+/// elements a stage writes (on several threads, each at its place) before anything reads it:
+/// a plain vector would first write every added element with its defaults, on one thread (for
+/// the contacts of a substep, megabytes). Only for implicit-lifetime types, whose objects the
+/// allocation itself creates.
+template <class T>
+struct UnwrittenAllocator : std::allocator<T> {
+    static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+    template <class U>
+    struct rebind {
+        using other = UnwrittenAllocator<U>;
+    };
+    UnwrittenAllocator() = default;
+    template <class U>
+    UnwrittenAllocator(const UnwrittenAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U*) noexcept {} // a resize's new element: written by its stage
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+/// A substep's contacts (the world's, a chunk's, the sort's scratch).
+using ContactList = std::vector<Contact, UnwrittenAllocator<Contact>>;
 
 /// An embedded point's value: the trilinear blend of its particles' `values` (positions or
 /// velocities).
@@ -284,7 +313,7 @@ struct CollisionState {
     /// Per chunk of box pairs (a fixed number of consecutive keys), the contacts and claims of
     /// its pairs: concatenated in chunk order, as one thread would have made them.
     struct PairChunk {
-        std::vector<Contact> contacts;
+        ContactList contacts;
         std::vector<BoxPairClaim> claims;
     };
     std::vector<PairChunk> pairChunks;
@@ -297,13 +326,15 @@ struct CollisionState {
     std::vector<uint32_t> hashedNodes;           ///< per body, its nodes hashed (this substep)
     std::vector<SpatialHash::Batch> hashBatches; ///< the nodes staged per batch of bodies
     /// This substep's contacts: the objects' (canonical order), then the floor's.
-    std::vector<Contact> all;
+    ContactList all;
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.
     std::vector<std::span<const Contact>> sortSpans;
     std::vector<const Contact*> sortSources;
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
-    std::vector<Contact> sortScratch;
+    ContactList sortScratch;
     size_t objectCount = 0;
+    /// Per body, where its floor contacts start in `all` (findFloorContacts).
+    std::vector<size_t> floorStart;
     std::span<const Contact> objectContacts() const { return {all.data(), objectCount}; }
     std::span<const Contact> floorContacts() const {
         return {all.data() + objectCount, all.size() - objectCount};

@@ -7,42 +7,74 @@
 
 namespace ffd::detail {
 
+namespace {
+
+// Calls fn(k, corner, node) for body b's box nodes within the floor's margin (what the body can
+// travel in a substep, plus its skin): its k-th box's corner `corner`, world-wide `node`.
+template <class F>
+void forNodesNearFloor(const CollisionWorld& w, uint32_t b, F&& fn) {
+    const CollisionBody& r = w.bodies[b];
+    const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
+    const float limit = w.settings.floorHeight + skin;
+    if (r.bounds.lo.y >= limit) return;
+    for (uint32_t k = 0; k < r.boxCount; ++k) {
+        if (w.boxBounds[r.firstBox + k].lo.y >= limit) continue;
+        for (int corner = 0; corner < 8; ++corner) {
+            const uint32_t node = (r.firstBox + k) * 8 + uint32_t(corner);
+            if (w.nodes[node].y < limit) fn(k, corner, node);
+        }
+    }
+}
+
+} // namespace
+
 void findFloorContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     s.all.resize(s.objectCount);
     w.profile.floorContacts = 0;
     if (!w.settings.floor) return;
-    // On one thread: the contacts are few per body and cheap to make, and on several threads
-    // their copies into place cost more than making them (measured on alphabets).
+    // Counted per body, then made at their places after the object contacts, body by body:
+    // the same order for any thread count, and each contact written once, on the thread that
+    // makes it (contacts are large: copying them from per-thread lists into place cost more
+    // than making them, measured on alphabets).
+    const uint32_t n = uint32_t(w.bodies.size());
+    constexpr size_t kBodiesPerChunk = 8;
+    std::vector<size_t>& start = s.floorStart;
+    start.assign(n + 1, 0);
+    w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
+        for (uint32_t b = uint32_t(first); b < last; ++b)
+            forNodesNearFloor(w, b, [&](uint32_t, int, uint32_t) { ++start[b + 1]; });
+    });
+    start[0] = s.objectCount;
+    for (uint32_t b = 0; b < n; ++b) start[b + 1] += start[b];
+    // With room to grow: a resize past the capacity allocates the exact size when it adds
+    // more than the list holds, and the count changes every substep.
+    if (s.all.capacity() < start[n]) s.all.reserve(start[n] + start[n] / 2);
+    s.all.resize(start[n]); // the new contacts are left unwritten (ContactList): written below
     const float floorY = w.settings.floorHeight;
-    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
-        const CollisionBody& r = w.bodies[b];
-        const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
-        if (r.bounds.lo.y >= floorY + skin) continue;
-        const Lattice& L = *r.lattice;
-        for (uint32_t k = 0; k < r.boxCount; ++k) {
-            if (w.boxBounds[r.firstBox + k].lo.y >= floorY + skin) continue;
-            const CellBox& box = L.boxes[k];
-            for (int n = 0; n < 8; ++n) {
-                const uint32_t node = (r.firstBox + k) * 8 + uint32_t(n);
-                const float y = w.nodes[node].y;
-                if (y >= floorY + skin) continue;
+    w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
+        for (uint32_t b = uint32_t(first); b < last; ++b) {
+            const CollisionBody& r = w.bodies[b];
+            const Lattice& L = *r.lattice;
+            size_t at = start[b];
+            forNodesNearFloor(w, b, [&](uint32_t k, int corner, uint32_t node) {
+                const CellBox& box = L.boxes[k];
                 Contact c;
                 c.bodyA = b;
                 c.nodeA = node;
                 c.normal = {0, 1, 0};
                 c.offset = floorY;
-                c.distance = y - floorY;
+                c.distance = w.nodes[node].y - floorY;
                 setPushOut(w, r, b, kFloorBody, c);
                 c.friction = r.friction;
                 c.restitution = r.restitution;
                 c.rigidity = r.contactRigidity;
                 makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
-                                 box.nodeLocal(n), w.invMass, c.a, c.invMassA);
-                s.all.push_back(c);
-            }
+                                 box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
+                s.all[at++] = c;
+            });
         }
-    }
+    });
     w.profile.floorContacts = int(s.all.size() - s.objectCount);
 }
 

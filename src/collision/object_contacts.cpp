@@ -74,8 +74,8 @@ Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA
 // Tests the box pairs `keys` (sorted), each once: its manifold's points become contacts, and
 // what the pair may claim (from the last substep's claims) a claim, appended to `contacts` and
 // `claims`.
-void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys,
-               std::vector<Contact>& contacts, std::vector<BoxPairClaim>& claims) {
+void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactList& contacts,
+               std::vector<BoxPairClaim>& claims) {
     const CollisionState& s = w.collision;
     if (keys.empty()) return;
     // Into the last substep's claims, sorted like keys.
@@ -145,7 +145,7 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys,
 // (docs/ALGORITHM.md). The contacts of `sources` (each one thread's, or `out` itself) land in
 // `out` sorted. The keys are unique, so any split of the sort gives the same order: one piece
 // per thread, each sorted on its own, then merged.
-void sortContacts(std::span<const std::span<const Contact>> sources, std::vector<Contact>& out,
+void sortContacts(std::span<const std::span<const Contact>> sources, ContactList& out,
                   CollisionState& s, Workers& workers) {
     std::vector<const Contact*>& from = s.sortSources;
     std::vector<size_t> at(sources.size() + 1, 0);
@@ -169,7 +169,7 @@ void sortContacts(std::span<const std::span<const Contact>> sources, std::vector
     for (size_t middle = piece; middle < n; middle += piece)
         std::inplace_merge(keys.begin(), keys.begin() + ptrdiff_t(middle),
                            keys.begin() + ptrdiff_t(std::min(n, middle + piece)));
-    std::vector<Contact>& sorted = s.sortScratch;
+    ContactList& sorted = s.sortScratch;
     sorted.resize(n);
     workers.forRange(n, [&](size_t first, size_t last, int) {
         for (size_t i = first; i < last; ++i) sorted[i] = *from[keys[i].second];
@@ -179,7 +179,7 @@ void sortContacts(std::span<const std::span<const Contact>> sources, std::vector
 
 } // namespace
 
-void findObjectContacts(CollisionWorld& w, CollisionMode mode, std::vector<Contact>& out,
+void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
                         int& outPotential) {
     out.clear();
     outPotential = 0;

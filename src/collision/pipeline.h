@@ -49,7 +49,7 @@ void findFloorContacts(CollisionWorld& world);
 
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
 /// with the contacts in canonical order; counts node/box pairs tested.
-void findObjectContacts(CollisionWorld& world, CollisionMode mode, std::vector<Contact>& out,
+void findObjectContacts(CollisionWorld& world, CollisionMode mode, ContactList& out,
                         int& outPotentialPairs);
 
 /// object_collision: findObjectContacts into world.collision.all, which findFloorContacts then

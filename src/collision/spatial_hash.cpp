@@ -62,7 +62,6 @@ void SpatialHash::addBatches(std::span<const Batch> batches, Workers& workers) {
 }
 
 void SpatialHash::build(Workers* workers) {
-    // The wide items' runs of one owner, each with the bounds of its items' cubes.
     wideRuns_.clear();
     for (uint32_t n = 0; n < wide_.size(); ++n) {
         const Entry& e = wide_[n];
@@ -74,8 +73,8 @@ void SpatialHash::build(Workers* workers) {
         run.bounds.add(e.position + Vec3{r, r, r});
         run.end = n + 1;
     }
-    // The buckets split in `parts` ranges, one per thread: each part scans every entry and
-    // takes those of its buckets, so a bucket's entries keep their staged order whatever the
+    // The buckets split in `parts` ranges, one per thread: each part takes the entries of its
+    // buckets in staged order, so a bucket's entries keep their staged order whatever the
     // split, and no two threads touch one bucket. The layout of the buckets in memory depends on
     // the split, what each bucket holds does not.
     const size_t parts = workers ? size_t(workers->count()) : 1;
@@ -87,33 +86,44 @@ void SpatialHash::build(Workers* workers) {
         if (parts == 1) return fn(size_t(0));
         workers->forChunks(parts, 1, [&](size_t part, size_t, int) { fn(part); });
     };
-    forParts([&](size_t part) {
-        const size_t n0 = staged_.size() * part / parts, n1 = staged_.size() * (part + 1) / parts;
+    // Each range of entries its buckets, and with several parts, its entries sorted by part
+    // (in order): a part then visits its own entries alone, where scanning every entry and
+    // skipping the others' mispredicted a branch per entry.
+    if (parts > 1) inPart_.resize(parts * parts);
+    forParts([&](size_t range) {
+        const size_t n0 = staged_.size() * range / parts, n1 = staged_.size() * (range + 1) / parts;
+        if (parts > 1)
+            for (size_t p = 0; p < parts; ++p) inPart_[range * parts + p].clear();
         for (size_t n = n0; n < n1; ++n) {
             const Entry& e = staged_[n];
             bucketOf_[n] = bucket(e.i, e.j, e.k);
+            if (parts > 1) inPart_[range * parts + bucketOf_[n] / perPart].push_back(uint32_t(n));
         }
     });
     // Pass 1: count per bucket; a bucket whose stamp is old is empty (no clearing needed).
+    // Part p's entries in staged order: range by range, each range's in order.
+    auto count = [&](size_t n, std::vector<uint32_t>& touched) {
+        const Entry& e = staged_[n];
+        Bucket& b = buckets_[bucketOf_[n]];
+        if (b.stamp != stamp_) {
+            b.stamp = stamp_;
+            b.count = 0;
+            b.soleOwner = e.owner;
+            touched.push_back(bucketOf_[n]);
+        } else if (b.soleOwner != e.owner) {
+            b.soleOwner = kMixed;
+        }
+        slotOf_[n] = b.count++;
+    };
     forParts([&](size_t part) {
-        const uint32_t h0 = uint32_t(part) * perPart, h1 = h0 + perPart;
         std::vector<uint32_t>& touched = touchedBy_[part];
         touched.clear();
-        for (size_t n = 0; n < staged_.size(); ++n) {
-            const uint32_t h = bucketOf_[n];
-            if (h < h0 || h >= h1) continue;
-            const Entry& e = staged_[n];
-            Bucket& b = buckets_[h];
-            if (b.stamp != stamp_) {
-                b.stamp = stamp_;
-                b.count = 0;
-                b.soleOwner = e.owner;
-                touched.push_back(h);
-            } else if (b.soleOwner != e.owner) {
-                b.soleOwner = kMixed;
-            }
-            slotOf_[n] = b.count++;
+        if (parts == 1) {
+            for (size_t n = 0; n < staged_.size(); ++n) count(n, touched);
+            return;
         }
+        for (size_t range = 0; range < parts; ++range)
+            for (const uint32_t n : inPart_[range * parts + part]) count(n, touched);
     });
     // Offsets over the touched buckets only, part by part, in the order first touched.
     uint32_t offset = 0;

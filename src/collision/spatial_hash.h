@@ -253,6 +253,9 @@ private:
     std::vector<WideRun> wideRuns_;
     std::vector<uint32_t> slotOf_, bucketOf_;
     std::vector<std::vector<uint32_t>> touchedBy_; ///< per part of the table, its touched buckets
+    /// With several parts, per range of entries r and part of the table p (r * parts + p), the
+    /// range's entries whose bucket lies in the part, in order.
+    std::vector<std::vector<uint32_t>> inPart_;
     /// Per owner of a staged item: its reach, and what of it the item's cells cover (the reach
     /// less the allowance).
     std::vector<float> reach_, extent_;

@@ -438,7 +438,7 @@ std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, 
     detail::updateNodes(view, 0, w.bodies.size());
     w.collision.pairs.clear();
     if (mode == CollisionMode::Enhanced) detail::sphereTest(view);
-    std::vector<detail::Contact> contacts;
+    detail::ContactList contacts;
     int potential = 0;
     detail::findObjectContacts(view, mode, contacts, potential);
     if (testedPairs) *testedPairs = potential;
