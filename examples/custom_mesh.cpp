@@ -2,6 +2,7 @@
 // lattice), and writes the final deformed meshes to an OBJ file.
 //   custom_mesh input.obj output.obj
 #include <ffdaabb/error.h>
+#include <ffdaabb/mesh_io.h>
 #include <ffdaabb/world.h>
 
 #include <cstdio>

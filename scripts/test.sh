@@ -49,10 +49,25 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   "$prefix/examples-build/hello_world" >/dev/null
   "$prefix/examples-build/drop_three"
   "$prefix/examples-build/own_threads"
+  # The core alone: its package component finds the threading library and nothing else, and
+  # its program links nothing of the content's.
+  cmake -S examples/core_only -B "$prefix/core-only-build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
+    -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$prefix/core-only-build" >/dev/null
+  "$prefix/core-only-build/stacked_boxes" >/dev/null
+  if grep -E '^ *LINK_LIBRARIES' "$prefix/core-only-build/build.ninja" |
+    grep -Eiq 'content|assimp|meshopt|freetype|glu|libz|json'; then
+    echo "examples: the core-only program links content libraries:" >&2
+    grep -E '^ *LINK_LIBRARIES' "$prefix/core-only-build/build.ninja" >&2
+    exit 1
+  fi
+  # The installed program finds the installed scenes (its data folder, beside its bin/).
+  (cd / && env -u FFDAABB_DATA -u FFDAABB_SCENES "$prefix/bin/ffdaabb" run --scene spheres \
+    --frames 2 --quiet)
   "build/$1/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
   "build/$1/bin/ffdaabb" run --scene examples/mixed.json --frames 30 --quiet
   "build/$1/bin/ffdaabb" run --scene examples/one_spot.json --frames 10 --quiet
-  echo "examples: built against the installed package and ran"
+  echo "examples: built against the installed package and ran (the core-only one linking the core and the threading library alone)"
 }
 
 stage setup

@@ -6,6 +6,7 @@
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
 #include "ffdaabb/lattice.h"
+#include "ffdaabb/mesh_io.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>

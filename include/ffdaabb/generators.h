@@ -81,8 +81,10 @@ const PaperObjectFigures* paperFigures(std::string_view spec);
 /// The generator names `generate` accepts, for help texts.
 const char* generatorNames();
 
-/// The folder the setup script fills with model data: $FFDAABB_MODELS when set, else the
-/// `.cache/models` folder of the source tree this library was built from.
+/// The folder model data is read from: $FFDAABB_MODELS when set, else the first data folder's
+/// `models` folder that exists (ffdaabb/data.h; a build tree's links to the `.cache/models`
+/// folder the setup script fills, an install's holds the models installed with it), else the
+/// first data folder's `models`.
 std::filesystem::path modelCacheDir();
 
 } // namespace ffd

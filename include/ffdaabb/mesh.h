@@ -1,13 +1,12 @@
-// Triangle meshes: the dense surfaces that ffdaabb embeds in FFD lattices. Loading (OBJ, PLY,
-// gzipped PLY, STL, OFF through Assimp), cleanup, and the generators of the paper's objects
-// (Jeon, Choi, Hong 2012, Table 2).
+// Triangle meshes: the dense surfaces that ffdaabb embeds in FFD lattices, with their bounds,
+// normals, closedness, cleanup and validation (the core). Files are the content component's
+// (ffdaabb/mesh_io.h), and so are the generators of the paper's objects (ffdaabb/generators.h).
 #pragma once
 
 #include "ffdaabb/math.h"
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -67,28 +66,6 @@ CleanupReport cleanup(TriangleMesh& ioMesh, const CleanupSettings& settings = {}
 /// Throws InputError when the mesh is empty, has an index out of range or a non-finite
 /// position. `source` names the mesh in the message (a file path or generator name).
 void validate(const TriangleMesh& mesh, const std::string& source);
-
-/// Loads a mesh file: .obj, .ply, .stl or .off, each optionally gzipped (.ply.gz, .obj.gz, ...;
-/// inflated with zlib first), extensions in any case. Assimp reads the file from memory, with
-/// no access to other files (material libraries are ignored). All meshes in the file are
-/// merged in file order (node transforms are not applied: these formats have none), polygons
-/// are triangulated, points and lines are dropped, and exactly equal positions are joined (so
-/// an OBJ or STL cube has 8 vertices); nothing else is cleaned up: call cleanup() for that.
-///
-/// Throws InputError whose source() is the path, for a file that is missing, a directory or
-/// not a regular file, unreadable, empty, of an unsupported extension, truncated, malformed
-/// (including vertex indices out of range and bad gzip streams), with non-finite coordinates
-/// (naming the vertex), declaring more than 2^28 elements, larger than 2 GiB (also after
-/// inflating), or without any triangle. Files are checked structurally before Assimp sees
-/// them, so Assimp's leniency (it reads "nan", clamps indices, accepts short files) and its
-/// crashes on damaged files do not reach the caller. Subsets refused as unsupported: PLY
-/// triangle strips, OFF faces of more than 9 corners, 4OFF/nOFF, polygons of more than 1024
-/// corners, OBJ statements that do not start at the beginning of their line.
-TriangleMesh loadMesh(const std::filesystem::path& path);
-
-/// Writes an OBJ file (positions and triangles); throws InputError on failure. The file is
-/// written to a temporary name and renamed into place, so a failed write leaves nothing.
-void saveObj(const TriangleMesh& mesh, const std::filesystem::path& path);
 
 /// Applies the affine map x -> scale * x + offset to all positions.
 void transform(TriangleMesh& ioMesh, float scale, Vec3 offset);

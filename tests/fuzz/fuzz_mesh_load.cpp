@@ -8,7 +8,7 @@
 // trips a sanitizer. Loaded meshes of moderate size go on through cleanup() and buildLattice().
 #include "ffdaabb/error.h"
 #include "ffdaabb/lattice.h"
-#include "ffdaabb/mesh.h"
+#include "ffdaabb/mesh_io.h"
 
 #include <unistd.h>
 

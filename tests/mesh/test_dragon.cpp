@@ -21,29 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Sets an environment variable for the lifetime of the object, then restores it.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const char* value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old;
-        if (value)
-            ::setenv(name, value, 1);
-        else
-            ::unsetenv(name);
-    }
-    ~ScopedEnv() {
-        if (old_)
-            ::setenv(name_, old_->c_str(), 1);
-        else
-            ::unsetenv(name_);
-    }
-    ScopedEnv(const ScopedEnv&) = delete;
-    ScopedEnv& operator=(const ScopedEnv&) = delete;
-
-private:
-    const char* name_;
-    std::optional<std::string> old_;
-};
+using test::ScopedEnv;
 
 bool modelsPresent() {
     return fs::exists(modelCacheDir() / "dragon_vrip_res2.ply.gz");
@@ -58,7 +36,8 @@ protected:
     // The setup script fetches the model for every build that runs the tests: its absence is a
     // failure, not a reason to skip.
     void SetUp() override {
-        ASSERT_TRUE(mesh_) << "no model data in " << modelCacheDir() << ": run scripts/setup.sh --models";
+        ASSERT_TRUE(mesh_) << "no model data in " << modelCacheDir()
+                           << ": run scripts/setup.sh --models";
     }
     static inline std::unique_ptr<TriangleMesh> mesh_;
 };
@@ -158,9 +137,15 @@ TEST(ModelCacheDir, FollowsTheEnvironment) {
         const ScopedEnv env("FFDAABB_MODELS", "/somewhere/models");
         EXPECT_EQ(modelCacheDir(), fs::path("/somewhere/models"));
     }
+    // Unset or empty: the data folders' (ffdaabb/data.h): in a build tree, the build's
+    // share/ffdaabb/models, a link to the source tree's .cache/models.
     for (const char* value : {static_cast<const char*>(nullptr), ""}) {
         const ScopedEnv env("FFDAABB_MODELS", value);
-        EXPECT_EQ(modelCacheDir(), fs::path(FFD_SOURCE_DIR) / ".cache" / "models");
+        const ScopedEnv data("FFDAABB_DATA", nullptr);
+        const fs::path cache = fs::path(FFD_SOURCE_DIR) / ".cache" / "models";
+        if (!fs::exists(cache)) GTEST_SKIP() << "no model data: run scripts/setup.sh --models";
+        EXPECT_TRUE(fs::equivalent(modelCacheDir(), cache)) << modelCacheDir();
+        EXPECT_EQ(modelCacheDir(), fs::path(FFD_BINARY_DIR) / "share" / "ffdaabb" / "models");
     }
 }
 

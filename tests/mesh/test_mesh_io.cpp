@@ -5,6 +5,7 @@
 #include "ffdaabb/generators.h"
 #include "ffdaabb/lattice.h"
 #include "ffdaabb/mesh.h"
+#include "ffdaabb/mesh_io.h"
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>

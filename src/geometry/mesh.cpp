@@ -1,8 +1,8 @@
-// TriangleMesh basics: bounds, normals, closedness, cleanup, validation and OBJ output.
+// TriangleMesh basics: bounds, normals, closedness, cleanup and validation (the core; files are
+// the content component's: mesh/mesh_io.cpp, mesh/save_obj.cpp).
 #include "ffdaabb/mesh.h"
 
 #include "ffdaabb/error.h"
-#include "util/atomic_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -259,19 +259,6 @@ void validate(const TriangleMesh& mesh, const std::string& source) {
                 throw InputError(source, "triangle " + std::to_string(t) + " uses vertex " +
                                              std::to_string(v) + " but the mesh has only " +
                                              std::to_string(n) + " vertices");
-}
-
-void saveObj(const TriangleMesh& mesh, const std::filesystem::path& path) {
-    AtomicFile file(path);
-    std::FILE* f = file.handle();
-    std::fprintf(f, "# ffdaabb: %zu vertices, %zu triangles\n", mesh.positions.size(),
-                 mesh.triangles.size());
-    if (!mesh.name.empty()) std::fprintf(f, "o %s\n", mesh.name.c_str());
-    for (const Vec3& p : mesh.positions)
-        std::fprintf(f, "v %.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
-    for (const auto& t : mesh.triangles)
-        std::fprintf(f, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    file.commit();
 }
 
 void transform(TriangleMesh& ioMesh, float scale, Vec3 offset) {
