@@ -12,6 +12,7 @@ void registerCommands(CLI::App& app) {
     addBenchCommand(app, gSelected);
     addRenderCommands(app, gSelected);
     addSoakCommand(app, gSelected);
+    addSettingsCommand(app, gSelected);
 }
 
 int runSelected(CLI::App&) {

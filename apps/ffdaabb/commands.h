@@ -25,6 +25,7 @@ void addRunCommand(CLI::App& app, Action& action);
 void addBenchCommand(CLI::App& app, Action& action);
 void addRenderCommands(CLI::App& app, Action& action);
 void addSoakCommand(CLI::App& app, Action& action);
+void addSettingsCommand(CLI::App& app, Action& action);
 
 /// A scene with the overrides shared by run/bench/render/view applied (0, "" or -1: keep the
 /// scene's). Throws InputError naming the flag for a bad value.

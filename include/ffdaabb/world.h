@@ -227,15 +227,21 @@ private:
     std::unique_ptr<State> state_;
 };
 
-/// A numeric setting's range: one table behind validate(), the scene reader and the command
-/// line's flags, so that all three accept and name the same values.
+/// A numeric setting: one table behind validate(), the scene reader, the command line's flags
+/// and help (`ffdaabb settings`) and the documentation's table of settings, so that all of them
+/// accept, name and describe the same values.
 struct SettingRange {
     const char* field;    ///< the C++ member: "frameStep" (validate names "world.frameStep")
     const char* key;      ///< the scene file's key: "frame_step" (in "world" or "material")
     double min, max;      ///< inclusive
     const char* expected; ///< the range in words, as errors say it: "seconds, 0 < frame_step <= 1"
     bool integer;         ///< an int setting (else float)
+    const char* unit;     ///< "s", "m", "m/s", "kg", ...; "" for a count or a ratio
+    const char* doc;      ///< what it sets, one line
 };
+
+/// The setting's value in a default-constructed WorldSettings or BodySettings.
+double settingDefault(const SettingRange& setting);
 
 /// The numeric WorldSettings, in declaration order.
 std::span<const SettingRange> worldSettingRanges();

@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <sstream>
+#include <string>
+
 using namespace ffd::test;
 
 TEST(Cli, HelpAndVersionExitZero) {
@@ -87,4 +91,26 @@ TEST(Cli, MeshInfoOfAFileReportsCleanupAndHonoursTheCellOptions) {
     r = runCli({"mesh-info", (dir / "cube.obj").string()});
     EXPECT_EQ(r.status, 0);
     EXPECT_NE(r.out.find("FFD cells"), std::string::npos);
+}
+
+// The settings table: every numeric setting listed with its default, range and unit, and
+// docs/LIMITS.md carries exactly the --markdown output.
+TEST(Cli, SettingsListsTheTableAndTheDocsCarryIt) {
+    RunResult r = runCli({"settings"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* key : {"frame_step", "overlap_recovery_speed", "contact_rigidity", "density"})
+        EXPECT_NE(r.out.find(key), std::string::npos) << key;
+    EXPECT_NE(r.out.find("0.0166667 s"), std::string::npos) << r.out; // frame_step's default
+    r = runCli({"settings", "--markdown"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("| `material.density` | `density` | 1000 |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("metres, \\|h\\| <= 1e6"), std::string::npos) << r.out; // '|' escaped
+    std::ifstream in(std::string(FFD_SOURCE_DIR) + "/docs/LIMITS.md");
+    std::stringstream docs;
+    docs << in.rdbuf();
+    const std::string begin = "<!-- generated: ffdaabb settings --markdown -->\n";
+    const size_t at = docs.str().find(begin);
+    ASSERT_NE(at, std::string::npos) << "docs/LIMITS.md lost its settings table";
+    EXPECT_EQ(docs.str().substr(at + begin.size(), r.out.size()), r.out)
+        << "docs/LIMITS.md's settings table is out of date: paste `ffdaabb settings --markdown`";
 }

@@ -299,6 +299,12 @@ TEST(WorldApi, TheSettingRangesDescribeTheirMembersAndValidateByThem) {
             EXPECT_EQ(findSettingRange(r.key), &r);
             const double value = detail::settingValue(defaults, members[i]);
             EXPECT_TRUE(value >= r.min && value <= r.max) << r.field << " default " << value;
+            EXPECT_EQ(settingDefault(r), value) << r.field;
+            SettingRange copy = r; // found by name when not the table's own entry
+            EXPECT_EQ(settingDefault(copy), value) << r.field;
+            EXPECT_NE(r.doc, nullptr);
+            EXPECT_GT(std::string(r.doc).size(), 10u) << r.field << " has no doc line";
+            EXPECT_NE(r.unit, nullptr);
             // Just outside each bound, validate names the field; on the bound it accepts.
             for (const double bound : {r.min, r.max}) {
                 Settings s = defaults;
