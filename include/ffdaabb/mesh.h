@@ -1,5 +1,5 @@
 // Triangle meshes: the dense surfaces that ffdaabb embeds in FFD lattices. Loading (OBJ, PLY,
-// gzipped PLY, STL, OFF through Assimp), cleanup, and the generators of the paper's objects
+// gzipped PLY, STL, OFF), cleanup, and the generators of the paper's objects
 // (Jeon, Choi, Hong 2012, Table 2).
 #pragma once
 
@@ -69,8 +69,9 @@ CleanupReport cleanup(TriangleMesh& ioMesh, const CleanupSettings& settings = {}
 void validate(const TriangleMesh& mesh, const std::string& source);
 
 /// Loads a mesh file: .obj, .ply, .stl or .off, each optionally gzipped (.ply.gz, .obj.gz, ...;
-/// inflated with zlib first), extensions in any case. Assimp reads the file from memory, with
-/// no access to other files (material libraries are ignored). All meshes in the file are
+/// inflated with zlib first), extensions in any case. The file is read from memory by the
+/// library's own reader for its format, with no access to other files (material libraries are
+/// ignored). All meshes in the file are
 /// merged in file order (node transforms are not applied: these formats have none), polygons
 /// are triangulated, points and lines are dropped, and exactly equal positions are joined (so
 /// an OBJ or STL cube has 8 vertices); nothing else is cleaned up: call cleanup() for that.
@@ -79,11 +80,9 @@ void validate(const TriangleMesh& mesh, const std::string& source);
 /// not a regular file, unreadable, empty, of an unsupported extension, truncated, malformed
 /// (including vertex indices out of range and bad gzip streams), with non-finite coordinates
 /// (naming the vertex), declaring more than 2^28 elements, larger than 2 GiB (also after
-/// inflating), or without any triangle. Files are checked structurally before Assimp sees
-/// them, so Assimp's leniency (it reads "nan", clamps indices, accepts short files) and its
-/// crashes on damaged files do not reach the caller. Subsets refused as unsupported: PLY
-/// triangle strips, OFF faces of more than 9 corners, 4OFF/nOFF, polygons of more than 1024
-/// corners, OBJ statements that do not start at the beginning of their line.
+/// inflating), or without any triangle. Subsets refused as unsupported: PLY triangle strips,
+/// 4OFF/nOFF, polygons of more than 1024 corners, OBJ statements that do not start at the
+/// beginning of their line.
 TriangleMesh loadMesh(const std::filesystem::path& path);
 
 /// Writes an OBJ file (positions and triangles); throws InputError on failure. The file is

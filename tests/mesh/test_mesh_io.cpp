@@ -249,7 +249,7 @@ TEST(LoadMesh, SaveObjRoundTripReproducesPositionsAndTriangles) {
     const TriangleMesh loaded = loadMesh(dir / "sphere.obj");
     ASSERT_EQ(loaded.vertexCount(), original.vertexCount());
     ASSERT_EQ(loaded.triangleCount(), original.triangleCount());
-    // Vertices may be renumbered (Assimp emits them per face corner, we weld them in order of
+    // Vertices may be renumbered (OBJ is read with a vertex per face corner, welded in order of
     // first use), but triangle order and corner positions are exact (%.9g round-trips floats).
     for (size_t t = 0; t < original.triangleCount(); ++t)
         for (int k = 0; k < 3; ++k)
@@ -259,8 +259,8 @@ TEST(LoadMesh, SaveObjRoundTripReproducesPositionsAndTriangles) {
     EXPECT_TRUE(isClosed(loaded));
 }
 
-TEST(LoadMesh, LargeBinaryPlySpansAssimpsReadBlocks) {
-    // Assimp streams PLY through a 1 MiB buffer: values straddling its blocks must survive.
+TEST(LoadMesh, LargeBinaryPlyLoadsExactly) {
+    // 1.5 MB of binary data in both byte orders: every value survives, in order.
     TempDir dir;
     const TriangleMesh sphere = icosphere(6); // 40,962 vertices: 1.5 MB of binary data
     std::vector<std::vector<int>> faces;
@@ -311,7 +311,7 @@ TEST(LoadMesh, AcceptsCommonObjAndPlyVariants) {
     expectCube(loadMesh(dir / "variants.obj"));
 
     // PLY with more properties than positions (normals, colours, doubles), int8 list counts and
-    // unsigned indices, and an extra element Assimp skips.
+    // unsigned indices, and an extra element that is skipped.
     std::string ply = "ply\r\nformat ascii 1.0\r\nobj_info made by hand\r\n"
                       "element vertex 8\r\nproperty double x\r\nproperty double y\r\n"
                       "property double z\r\nproperty float nx\r\nproperty uchar red\r\n"
@@ -325,8 +325,8 @@ TEST(LoadMesh, AcceptsCommonObjAndPlyVariants) {
 }
 
 // Material statements are ignored: a library that cannot be found, a material never defined,
-// and the malformed material lines on which Assimp's reader wrote through a wild pointer (found
-// by fuzz_mesh_load: lines starting with 'm' carrying bytes above 0x7f).
+// and the malformed material lines on which the earlier Assimp-based loader wrote through a wild
+// pointer (found by fuzz_mesh_load: lines starting with 'm' carrying bytes above 0x7f).
 TEST(LoadMesh, ObjMaterialLinesAreIgnored) {
     TempDir dir;
     std::string obj = "mtllib missing.mtl\nusemtl nowhere\n";
@@ -637,8 +637,8 @@ TEST(LoadMeshErrors, RandomGarbageIsRejected) {
 
 TEST(LoadMeshErrors, MutatedFilesNeverCrash) {
     // Valid files with bytes flipped, inserted, deleted or cut: each must load or throw an
-    // InputError, never crash or throw anything else (Assimp alone segfaults or aborts on
-    // several of these).
+    // InputError, never crash or throw anything else (Assimp, the earlier reader, segfaulted or
+    // aborted on several of these).
     TempDir dir;
     TriangleMesh sphere = icosphere(1);
     std::vector<std::vector<int>> faces;
@@ -684,9 +684,9 @@ TEST(LoadMeshErrors, MutatedFilesNeverCrash) {
     EXPECT_GT(loaded, 0); // some edits keep the file valid (e.g. a digit changed)
 }
 
-TEST(LoadMesh, AssimpStaysQuiet) {
+TEST(LoadMesh, LoadingStaysQuiet) {
     TempDir dir;
-    // Assimp would warn about the missing material library and the unknown material.
+    // Nothing is printed about the missing material library or the unknown material.
     writeFile(dir / "quiet.obj", "mtllib nowhere.mtl\nusemtl nothing\n" + objCube());
     writeFile(dir / "quiet.stl", stlAsciiCube());
     testing::internal::CaptureStdout();
