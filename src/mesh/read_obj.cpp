@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <unordered_set>
 #include <vector>
 
 namespace ffd::detail {
@@ -29,21 +30,19 @@ bool parseObjIndex(std::string_view t, int64_t& value) {
 struct ObjParts {
     std::vector<RawPart> parts;
     std::vector<std::vector<int64_t>> indices; // per part: corners as 0-based file vertices
-    std::vector<std::string> objects;          // names, in order of creation
+    std::unordered_set<std::string> objects;   // names of the objects and groups so far
     int current = -1;
     std::string activeGroup;
 
     void newPart(std::string name) {
-        objects.push_back(std::move(name));
+        objects.insert(std::move(name));
         parts.emplace_back();
         indices.emplace_back();
         current = int(parts.size()) - 1;
     }
     void object(std::string_view name) {
         // An existing object becomes active again, but its faces keep going where they went.
-        for (const std::string& o : objects)
-            if (o == name) return;
-        newPart(std::string(name));
+        if (objects.count(std::string(name)) == 0) newPart(std::string(name));
     }
     void group(std::string_view name) {
         if (name == activeGroup) return;

@@ -579,11 +579,11 @@ std::vector<RawPart> readPly(std::string_view data, const std::string& source) {
     const PlyHeader h = parsePlyHeader(data, source);
     std::vector<RawPart> parts(1);
     RawPart& part = parts[0];
-    // The counts are capped by the header checks; a binary file's were checked against its size
-    // before anything is read, and an ASCII file's elements take at least 2 bytes each.
-    const uint64_t limit = data.size() / 2 + 1;
-    if (h.vertexCount <= limit) part.positions.resize(size_t(h.vertexCount), Vec3{});
-    if (h.faceCount <= limit) {
+    // Storage is sized from the header only where the file is large enough to hold what it
+    // declares (a vertex takes at least 2 bytes, a face 4); otherwise it grows as elements are
+    // read, and the walk stops at the end of the file.
+    if (h.vertexCount <= data.size() / 2) part.positions.resize(size_t(h.vertexCount), Vec3{});
+    if (h.faceCount <= data.size() / 4) {
         part.faceSizes.reserve(size_t(h.faceCount));
         part.corners.reserve(size_t(h.faceCount) * 3);
     }
