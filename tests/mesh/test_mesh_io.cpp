@@ -13,6 +13,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -322,6 +323,47 @@ TEST(LoadMesh, AcceptsCommonObjAndPlyVariants) {
     ply += replaceAll(plyAsciiFaces(), "\n", "\r\n") + "1\r\n2\r\n";
     writeFile(dir / "variants.ply", ply);
     expectCube(loadMesh(dir / "variants.ply"));
+}
+
+// Decimals become the floats the golden meshes were built from (integer part, up to 15 decimals
+// scaled in double and added in float, then a float power of ten): for these three, not the
+// nearest float (strtof gives 0x1.cd1ae2p-18, 0x1.e83d7p+5 and 0x1.a40b78p-3).
+TEST(LoadMesh, DecimalsConvertAsBefore) {
+    TempDir dir;
+    const Vec3 expected{0x1.cd1aep-18f, 0x1.e83d72p+5f, 0x1.a40b7ap-3f};
+    const std::string first = "6.871e-6 6.103e1 2.051e-1";
+    const std::string rest = "1 0 0\n0 1 0\n";
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"decimals.obj", "v " + first + "\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+        {"decimals.off", "OFF\n3 1 0\n" + first + "\n" + rest + "3 0 1 2\n"},
+        {"decimals.ply", plyAsciiHeader("3", "1") + first + "\n" + rest + "3 0 1 2\n"},
+        {"decimals.stl", "solid d\nfacet normal 0 0 1\nouter loop\nvertex " + first +
+                             "\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid d\n"},
+    };
+    for (const auto& [name, content] : files) {
+        SCOPED_TRACE(name);
+        writeFile(dir / name, content);
+        const TriangleMesh m = loadMesh(dir / name);
+        ASSERT_EQ(m.vertexCount(), 3u);
+        EXPECT_EQ(m.positions[0], expected);
+    }
+}
+
+// OFF faces are no longer limited to 9 corners: a 12-gon is ear-clipped into 10 triangles.
+TEST(LoadMesh, OffPolygonsOfManyCorners) {
+    TempDir dir;
+    std::string off = "OFF\n12 1 0\n";
+    std::string face = "12";
+    for (int i = 0; i < 12; ++i) {
+        const double a = 2 * 3.14159265358979 * i / 12;
+        off += num(float(std::cos(a))) + " " + num(float(std::sin(a))) + " 0\n";
+        face += ' ';
+        face += std::to_string(i);
+    }
+    writeFile(dir / "dodecagon.off", off + face + "\n");
+    const TriangleMesh m = loadMesh(dir / "dodecagon.off");
+    EXPECT_EQ(m.vertexCount(), 12u);
+    EXPECT_EQ(m.triangleCount(), 10u);
 }
 
 // Material statements are ignored: a library that cannot be found, a material never defined,
