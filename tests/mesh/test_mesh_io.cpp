@@ -325,6 +325,20 @@ TEST(LoadMesh, AcceptsCommonObjAndPlyVariants) {
     expectCube(loadMesh(dir / "variants.ply"));
 }
 
+// A UTF-8 byte order mark before the first vertex: that vertex is the file's first (the earlier
+// Assimp-based loader lost it, shifting every index or refusing the file as out of range).
+TEST(LoadMesh, ObjByteOrderMarkBeforeAVertex) {
+    TempDir dir;
+    writeFile(dir / "bom.obj", "\xEF\xBB\xBF" + objCube());
+    expectCube(loadMesh(dir / "bom.obj"));
+    std::string obj = "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
+    writeFile(dir / "bom_first.obj", obj);
+    const TriangleMesh m = loadMesh(dir / "bom_first.obj");
+    ASSERT_EQ(m.triangleCount(), 1u);
+    EXPECT_EQ(m.positions[m.triangles[0][0]], (Vec3{0, 0, 0}));
+    EXPECT_EQ(m.positions[m.triangles[0][2]], (Vec3{0, 1, 0}));
+}
+
 // Decimals become the floats the golden meshes were built from (integer part, up to 15 decimals
 // scaled in double and added in float, then a float power of ten): for these three, not the
 // nearest float (strtof gives 0x1.cd1ae2p-18, 0x1.e83d7p+5 and 0x1.a40b78p-3).
