@@ -339,6 +339,20 @@ TEST(LoadMesh, ObjByteOrderMarkBeforeAVertex) {
     EXPECT_EQ(m.positions[m.triangles[0][2]], (Vec3{0, 1, 0}));
 }
 
+// Corners 'v/vt/vn' in a file with normals but no texture coordinates: every corner is read
+// (the earlier Assimp-based loader took vt for the normal, then vn for an unsupported token, and
+// dropped the rest of the face and the first characters of the next line; found by fuzzing).
+TEST(LoadMesh, ObjCornersWithTextureIndicesButNoTextureCoordinates) {
+    TempDir dir;
+    std::string obj = "vn 0 0 1\n";
+    for (const Vec3& p : kCorners) obj += "v " + num(p.x) + " " + num(p.y) + " " + num(p.z) + "\n";
+    for (const auto& q : kQuads)
+        obj += "f " + std::to_string(q[0] + 1) + "/1/-1 " + std::to_string(q[1] + 1) + "/1/-1 " +
+               std::to_string(q[2] + 1) + "/1/-1 " + std::to_string(q[3] + 1) + "/1/-1\n";
+    writeFile(dir / "no_vt.obj", obj);
+    expectCube(loadMesh(dir / "no_vt.obj"));
+}
+
 // Decimals become the floats the golden meshes were built from (integer part, up to 15 decimals
 // scaled in double and added in float, then a float power of ten): for these three, not the
 // nearest float (strtof gives 0x1.cd1ae2p-18, 0x1.e83d7p+5 and 0x1.a40b78p-3).
