@@ -15,7 +15,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   libgtest-dev libgmock-dev libbenchmark-dev
-  libeigen3-dev libassimp-dev zlib1g-dev libfreetype-dev fonts-dejavu-core libglu1-mesa-dev
+  libeigen3-dev zlib1g-dev libfreetype-dev fonts-dejavu-core libglu1-mesa-dev
   libmeshoptimizer-dev libtbb-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   libegl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev libglfw3-dev libimgui-dev libstb-dev
   ffmpeg libbullet-dev xvfb xauth python3 python3-numpy python3-matplotlib

@@ -9,8 +9,9 @@
 namespace ffd {
 
 /// Loads a mesh file: .obj, .ply, .stl or .off, each optionally gzipped (.ply.gz, .obj.gz, ...;
-/// inflated with zlib first), extensions in any case. Assimp reads the file from memory, with
-/// no access to other files (material libraries are ignored). All meshes in the file are
+/// inflated with zlib first), extensions in any case. The file is read from memory by the
+/// library's own reader for its format, with no access to other files (material libraries are
+/// ignored). All meshes in the file are
 /// merged in file order (node transforms are not applied: these formats have none), polygons
 /// are triangulated, points and lines are dropped, and exactly equal positions are joined (so
 /// an OBJ or STL cube has 8 vertices); nothing else is cleaned up: call cleanup() for that.
@@ -19,11 +20,9 @@ namespace ffd {
 /// not a regular file, unreadable, empty, of an unsupported extension, truncated, malformed
 /// (including vertex indices out of range and bad gzip streams), with non-finite coordinates
 /// (naming the vertex), declaring more than 2^28 elements, larger than 2 GiB (also after
-/// inflating), or without any triangle. Files are checked structurally before Assimp sees
-/// them, so Assimp's leniency (it reads "nan", clamps indices, accepts short files) and its
-/// crashes on damaged files do not reach the caller. Subsets refused as unsupported: PLY
-/// triangle strips, OFF faces of more than 9 corners, 4OFF/nOFF, polygons of more than 1024
-/// corners, OBJ statements that do not start at the beginning of their line.
+/// inflating), or without any triangle. Subsets refused as unsupported: PLY triangle strips,
+/// 4OFF/nOFF, polygons of more than 1024 corners, OBJ statements that do not start at the
+/// beginning of their line.
 TriangleMesh loadMesh(const std::filesystem::path& path);
 
 /// Writes an OBJ file (positions and triangles); throws InputError on failure. The file is

@@ -1,18 +1,13 @@
-// Loading mesh files: OBJ, PLY, STL and OFF, optionally gzipped, read by Assimp 5.2.5.
+// Loading mesh files: OBJ, PLY, STL and OFF, optionally gzipped.
 //
-// The file is read into memory once (inflated with zlib when gzipped), checked structurally by
-// format_checks.h, handed to Assimp from memory with no file system behind it, and Assimp's
-// scene is checked again before any post-processing step runs on it. Errors are InputErrors
-// that name the file.
-#include "ffdaabb/mesh_io.h"
+// The file is read into memory once (inflated with zlib when gzipped), read by the reader of
+// its format (mesh_reader.h: read_obj.cpp, read_ply.cpp, read_stl.cpp, read_off.cpp), which
+// refuses malformed input itself, and the result is validated. Errors are InputErrors that
+// name the file.
 #include "ffdaabb/error.h"
-#include "mesh/format_checks.h"
+#include "ffdaabb/mesh_io.h"
+#include "mesh/mesh_reader.h"
 
-#include <assimp/IOStream.hpp>
-#include <assimp/IOSystem.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -171,151 +166,25 @@ std::string gunzip(const std::string& compressed, const std::string& source) {
     return out;
 }
 
-// Assimp may read the buffer we hand it and nothing else: a material library or texture named
-// inside the file could be /dev/zero, a FIFO or a file that makes the load fail.
-class NoFileSystem final : public Assimp::IOSystem {
-public:
-    bool Exists(const char*) const override { return false; }
-    char getOsSeparator() const override { return '/'; }
-    Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
-    void Close(Assimp::IOStream* stream) override { delete stream; }
-};
-
 std::string formatName(MeshFormat format) {
     std::string name = detail::formatExtension(format);
     for (char& c : name) c = char(c - 'a' + 'A');
     return name;
 }
 
-// Checks what Assimp built before a post-processing step trusts it: faces with indices in
-// range, finite positions, and primitive-type flags recomputed from the faces (Triangulate
-// asserts, i.e. aborts, when a mesh claims polygons it does not have).
-void checkScene(const aiScene* scene, MeshFormat format, const std::string& source) {
-    const std::string what = "malformed " + formatName(format) + " file: ";
-    if (!scene->mMeshes && scene->mNumMeshes > 0) fail(source, what + "Assimp lost its meshes");
-    size_t polygons = 0;
-    uint64_t vertexBase = 0;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        aiMesh* mesh = scene->mMeshes[m];
-        if (!mesh) continue;
-        if ((mesh->mNumVertices > 0 && !mesh->mVertices) || (mesh->mNumFaces > 0 && !mesh->mFaces))
-            fail(source, what + "Assimp returned a mesh without data");
-        unsigned types = 0;
-        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-            const aiFace& face = mesh->mFaces[f];
-            if (face.mNumIndices == 0 || !face.mIndices)
-                fail(source, what + "a face without vertices");
-            for (unsigned k = 0; k < face.mNumIndices; ++k)
-                if (face.mIndices[k] >= mesh->mNumVertices)
-                    fail(source, what + "a face uses vertex index " +
-                                     std::to_string(face.mIndices[k]) + ", out of range (" +
-                                     std::to_string(mesh->mNumVertices) + " vertices)");
-            switch (face.mNumIndices) {
-            case 1:
-                types |= aiPrimitiveType_POINT;
-                break;
-            case 2:
-                types |= aiPrimitiveType_LINE;
-                break;
-            case 3:
-                types |= aiPrimitiveType_TRIANGLE;
-                break;
-            default:
-                types |= aiPrimitiveType_POLYGON;
-                break;
-            }
-            if (face.mNumIndices >= 3) ++polygons;
-        }
-        mesh->mPrimitiveTypes = types;
-        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-            const aiVector3D& p = mesh->mVertices[v];
-            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                char buf[200];
-                std::snprintf(buf, sizeof buf,
-                              "non-finite coordinate: vertex %llu is (%g, %g, %g) (expected "
-                              "finite numbers)",
-                              static_cast<unsigned long long>(vertexBase + v), double(p.x),
-                              double(p.y), double(p.z));
-                fail(source, buf);
-            }
-        }
-        vertexBase += mesh->mNumVertices;
+std::vector<detail::RawPart> readFormat(MeshFormat format, std::string_view data,
+                                        const std::string& source) {
+    switch (format) {
+    case MeshFormat::Obj:
+        return detail::readObj(data, source);
+    case MeshFormat::Ply:
+        return detail::readPly(data, source);
+    case MeshFormat::Stl:
+        return detail::readStl(data, source);
+    case MeshFormat::Off:
+        return detail::readOff(data, source);
     }
-    if (polygons == 0)
-        fail(source, "the " + formatName(format) +
-                         " file contains no triangles, only points or lines (expected faces "
-                         "with at least 3 corners)");
-}
-
-// Turns every OBJ statement that starts with 'm' or 'u' (mtllib, usemtl, and whatever else
-// Assimp's OBJ reader dispatches to its material code by that first letter) into a comment.
-// Materials mean nothing here, and Assimp 5.2's material path crashes (a wild write) on some
-// malformed lines (found by fuzz_mesh_load; tests/mesh LoadMesh.ObjMaterialLinesAreIgnored).
-void dropObjMaterialStatements(std::string& data) {
-    size_t start = data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
-    for (size_t i = start; i < data.size(); ++i) {
-        const bool lineStart = i == start || data[i - 1] == '\n' || data[i - 1] == '\r';
-        if (lineStart && (data[i] == 'm' || data[i] == 'u')) data[i] = '#';
-    }
-}
-
-TriangleMesh importWithAssimp(std::string& data, MeshFormat format, bool text,
-                              const std::string& source) {
-    // Assimp's text readers look for a line end after the last line.
-    if (text && format != MeshFormat::Stl && data.back() != '\n') data.push_back('\n');
-    if (format == MeshFormat::Obj) dropObjMaterialStatements(data);
-
-    Assimp::Importer importer;
-    importer.SetIOHandler(new NoFileSystem); // the importer owns and deletes it
-    const aiScene* scene =
-        importer.ReadFileFromMemory(data.data(), data.size(), 0, detail::formatExtension(format));
-    if (!scene)
-        fail(source, "malformed " + formatName(format) +
-                         " file: Assimp could not read it: " + importer.GetErrorString());
-    checkScene(scene, format, source);
-    scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-    if (!scene)
-        fail(source, "malformed " + formatName(format) +
-                         " file: Assimp could not triangulate it: " + importer.GetErrorString());
-
-    // Node transforms are not applied: none of these four formats can express one (Assimp gives
-    // identity nodes), and merging scene->mMeshes takes each mesh exactly once.
-    TriangleMesh mesh;
-    size_t vertexCount = 0, triangleCount = 0;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* part = scene->mMeshes[m];
-        if (!part) continue;
-        size_t triangles = 0;
-        for (unsigned f = 0; f < part->mNumFaces; ++f)
-            triangles += part->mFaces[f].mNumIndices == 3 ? 1 : 0;
-        if (triangles == 0) continue; // points and lines only
-        vertexCount += part->mNumVertices;
-        triangleCount += triangles;
-    }
-    if (vertexCount >= UINT32_MAX)
-        fail(source, "has " + std::to_string(vertexCount) +
-                         " vertices, more than 32-bit indices can address");
-    mesh.positions.reserve(vertexCount);
-    mesh.triangles.reserve(triangleCount);
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* part = scene->mMeshes[m];
-        if (!part) continue;
-        const auto base = uint32_t(mesh.positions.size());
-        bool used = false;
-        for (unsigned f = 0; f < part->mNumFaces; ++f) {
-            const aiFace& face = part->mFaces[f];
-            if (face.mNumIndices != 3) continue;
-            mesh.triangles.push_back(
-                {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
-            used = true;
-        }
-        if (!used) continue;
-        for (unsigned v = 0; v < part->mNumVertices; ++v) {
-            const aiVector3D& p = part->mVertices[v];
-            mesh.positions.push_back({float(p.x), float(p.y), float(p.z)});
-        }
-    }
-    return mesh;
+    return {};
 }
 
 } // namespace
@@ -329,8 +198,9 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
 
     TriangleMesh mesh;
     try {
-        const detail::PrecheckResult checked = detail::precheck(kind.format, data, source);
-        mesh = importWithAssimp(data, kind.format, checked.text, source);
+        std::vector<detail::RawPart> parts = readFormat(kind.format, data, source);
+        data = std::string(); // the bytes are no longer needed
+        mesh = detail::assemble(parts, kind.format, source);
     } catch (const InputError&) {
         throw;
     } catch (const std::bad_alloc&) {
@@ -342,7 +212,7 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
     }
     validate(mesh, source);
 
-    // Formats that store corners per face (STL, and Assimp's OBJ reader) repeat positions:
+    // Formats read with a vertex per face corner (OBJ, OFF, STL) repeat positions:
     // join exactly equal ones so that a cube has 8 vertices. Nothing else is cleaned up.
     CleanupSettings weldOnly;
     weldOnly.dropDegenerate = false;
