@@ -4,8 +4,8 @@
 // its format (mesh_reader.h: read_obj.cpp, read_ply.cpp, read_stl.cpp, read_off.cpp), which
 // refuses malformed input itself, and the result is validated. Errors are InputErrors that
 // name the file.
-#include "ffdaabb/error.h"
 #include "ffdaabb/mesh_io.h"
+#include "ffdaabb/error.h"
 #include "mesh/mesh_reader.h"
 
 #include <zlib.h>
