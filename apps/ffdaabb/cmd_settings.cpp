@@ -27,17 +27,17 @@ std::string cell(const char* text) {
 
 int printSettings(const SettingsOptions& o) {
     const struct {
-        const char* group;
+        const char* group; // the scene file's object
+        const char* type;  // the C++ struct
         std::span<const SettingRange> table;
-    } groups[] = {{"world", worldSettingRanges()}, {"material", bodySettingRanges()}};
+    } groups[] = {{"world", "WorldSettings", worldSettingRanges()},
+                  {"material", "BodySettings", bodySettingRanges()}};
     if (o.markdown) {
         fmt::print("| scene key | C++ member | default | range | unit | what it sets |\n");
         fmt::print("|---|---|---|---|---|---|\n");
     }
     for (const auto& g : groups) {
-        if (!o.markdown)
-            fmt::print("{} ({}Settings):\n", g.group,
-                       std::string(g.group) == "world" ? "World" : "Body");
+        if (!o.markdown) fmt::print("{} ({}):\n", g.group, g.type);
         for (const SettingRange& r : g.table) {
             const std::string value = fmt::format("{:g}", settingDefault(r));
             if (o.markdown)

@@ -25,12 +25,9 @@
 namespace ffd {
 namespace {
 
+using detail::fail;
 using detail::kMaxFileBytes;
 using detail::MeshFormat;
-
-[[noreturn]] void fail(const std::string& source, const std::string& problem) {
-    throw InputError(source, problem);
-}
 
 constexpr const char* kSupported =
     ".obj, .ply, .stl and .off, each optionally gzipped (e.g. .ply.gz)";
@@ -41,11 +38,11 @@ std::string lowerCase(std::string s) {
     return s;
 }
 
+// The format whose extension (detail::formatExtension) `extension` is, with its dot.
 std::optional<MeshFormat> formatFromExtension(const std::string& extension) {
-    if (extension == ".obj") return MeshFormat::Obj;
-    if (extension == ".ply") return MeshFormat::Ply;
-    if (extension == ".stl") return MeshFormat::Stl;
-    if (extension == ".off") return MeshFormat::Off;
+    for (const MeshFormat format :
+         {MeshFormat::Obj, MeshFormat::Ply, MeshFormat::Stl, MeshFormat::Off})
+        if (extension == std::string(".") + detail::formatExtension(format)) return format;
     return std::nullopt;
 }
 

@@ -91,15 +91,12 @@ const SettingRange* findSettingRange(std::string_view name) {
 }
 
 double settingDefault(const SettingRange& setting) {
-    const std::span<const SettingRange> world = worldSettingRanges();
-    const std::span<const SettingRange> body = bodySettingRanges();
-    if (&setting >= world.data() && &setting < world.data() + world.size())
-        return detail::settingValue(WorldSettings{}, kWorldMembers[&setting - world.data()]);
-    if (&setting >= body.data() && &setting < body.data() + body.size())
-        return detail::settingValue(BodySettings{}, kBodyMembers[&setting - body.data()]);
-    const SettingRange* same = findSettingRange(setting.field); // a copy: look it up by name
-    if (!same) throw InputError(setting.field, "not a setting of the table");
-    return settingDefault(*same);
+    // The table's own entry (the argument may be a copy), whose place names its member.
+    const SettingRange* entry = findSettingRange(setting.field);
+    if (!entry) throw InputError(setting.field, "not a setting of the table");
+    if (entry >= std::begin(kWorld) && entry < std::end(kWorld))
+        return detail::settingValue(WorldSettings{}, kWorldMembers[entry - std::begin(kWorld)]);
+    return detail::settingValue(BodySettings{}, kBodyMembers[entry - std::begin(kBody)]);
 }
 
 namespace detail {
