@@ -77,12 +77,14 @@ render::Overlays parseOverlays(const std::string& list) {
             o.lattice = true;
         else if (item == "contacts")
             o.contacts = true;
+        else if (item == "sleeping")
+            o.sleeping = true;
         else if (item == "all")
-            o.spheres = o.boxes = o.lattice = o.contacts = true;
+            o.spheres = o.boxes = o.lattice = o.contacts = o.sleeping = true;
         else
-            throw InputError("--overlay",
-                             "unknown overlay \"" + item +
-                                 "\" (expected spheres, boxes, lattice, contacts or all)");
+            throw InputError("--overlay", "unknown overlay \"" + item +
+                                              "\" (expected spheres, boxes, lattice, contacts, "
+                                              "sleeping or all)");
     }
     return o;
 }
@@ -200,7 +202,7 @@ void addCommonOptions(CLI::App* cmd, RenderCommandOptions& o, bool view) {
     cmd->add_option(
         "--overlay", o.overlay,
         "Comma-separated overlays: spheres (bounding spheres), boxes (FFD-AABB), lattice, "
-        "contacts, all");
+        "contacts, sleeping (sleeping bodies grey), all");
     cmd->add_option("--camera", o.camera,
                     "Fixed camera ex,ey,ez:tx,ty,tz (default: framed automatically)");
     cmd->add_option("--azimuth", o.azimuth,

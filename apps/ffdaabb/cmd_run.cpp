@@ -114,6 +114,8 @@ int run(const RunCommandOptions& o) {
     fmt::print("  per frame (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
                "{:.1f} object contacts, {:.1f} floor contacts\n",
                r.candidatePairs, r.potentialPairs, r.contacts, r.floorContacts);
+    fmt::print("  sleeping           {:.1f} bodies asleep per frame (mean), {} of {} at the end\n",
+               r.sleepingBodies, r.sleepingAtEnd, r.objects);
     if (r.measureSamples > 0) {
         const bench::Interpenetration& p = r.interpenetration;
         fmt::print(

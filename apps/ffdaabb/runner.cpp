@@ -98,6 +98,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
             r.potentialPairs += p.potentialPairs;
             r.contacts += p.contacts;
             r.floorContacts += p.floorContacts;
+            r.sleepingBodies += p.sleepingBodies;
             r.maxContactDepth = std::max(r.maxContactDepth, double(p.maxContactDepth));
         }
         if (options.progress) options.progress(f + 1, total);
@@ -105,6 +106,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double n = std::max(1, options.frames);
     r.candidatePairs /= n, r.potentialPairs /= n, r.contacts /= n, r.floorContacts /= n;
+    r.sleepingBodies /= n;
+    r.sleepingAtEnd = build.world.profile().sleepingBodies;
     summariseStages(r.frameMs, r.meanMs, r.medianMs);
     r.stateHash = build.world.stateHash();
     for (BodyId id : build.bodies) {
@@ -157,6 +160,8 @@ nlohmann::json statsJson(const RunResult& r) {
             {"potential_pairs", r.potentialPairs},
             {"contacts", r.contacts},
             {"floor_contacts", r.floorContacts},
+            {"sleeping_bodies", r.sleepingBodies},
+            {"sleeping_bodies_at_end", r.sleepingAtEnd},
             {"max_contact_depth", r.maxContactDepth},
             {"interpenetration", interpenetrationJson(r)},
             {"state_hash", hash},

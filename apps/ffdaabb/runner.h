@@ -52,6 +52,8 @@ struct RunResult {
     std::vector<Timings> frameMs; ///< per timed frame
     double meanMs[kTimingCount] = {}, medianMs[kTimingCount] = {};
     double candidatePairs = 0, potentialPairs = 0, contacts = 0, floorContacts = 0; ///< means
+    double sleepingBodies = 0;  ///< mean over the timed frames (WorldSettings::sleepSpeed)
+    int sleepingAtEnd = 0;      ///< after the last frame
     double maxContactDepth = 0; ///< the pipeline's deepest contact violation (Profile)
     /// The meshes' interpenetration: the worst over the samples (keepWorst), its deepest vertex
     /// relative to the largest object's size (referenceSize), and the frame of that deepest.

@@ -15,7 +15,8 @@
 namespace ffd {
 
 /// The stages of World::step, in the order they run in each substep; mesh_update runs once per
-/// frame, after the substeps.
+/// frame, after the substeps, and sleeping once per frame, its waking before the substeps and
+/// its falling asleep after mesh_update.
 enum class Stage : uint8_t {
     Dynamics,           ///< shape matching or springs, external forces, velocities
     NodeUpdate,         ///< FFD-AABB nodes from particles, per-box and per-body bounds
@@ -28,8 +29,10 @@ enum class Stage : uint8_t {
     PositionUpdate,     ///< positions advanced by the velocities
     ResponseAfterMove,  ///< projection of what overlap is left, then the velocity pass
     MeshUpdate,         ///< embedded mesh vertices from the lattice
+    Sleeping,           ///< once a frame: sleeping bodies within reach woken, quiet islands put
+                        ///< to sleep
 };
-inline constexpr size_t kStageCount = 11;
+inline constexpr size_t kStageCount = 12;
 
 /// The columns of the paper's Table 1 (Jeon, Choi, Hong 2012), and the dynamics it leaves out:
 /// each the sum of its stages (StageInfo::column).
@@ -79,6 +82,7 @@ struct Profile {
     int floorContacts = 0;  ///< floor contacts (last substep)
     int overlapPairs = 0;   ///< pairs placed overlapping and not yet apart (last substep)
     int wholePairs = 0;     ///< of those, pushed apart as whole bodies (last substep)
+    int sleepingBodies = 0; ///< bodies asleep at the end of the frame
     /// Deepest contact violation left after the response (a box node inside another object's
     /// cell box or below the floor), metres, over the frame's substeps: the pipeline's own
     /// measure, not the meshes' (a node inside a box need not be a vertex inside a mesh, nor

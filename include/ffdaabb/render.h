@@ -102,6 +102,7 @@ struct Overlays {
     bool boxes = false;    ///< FFD-AABB cell boxes, wire hexahedra through the boundary nodes
     bool lattice = false;  ///< lattice cell edges through the particles
     bool contacts = false; ///< last substep's contacts: points and short normal lines
+    bool sleeping = false; ///< sleeping bodies drawn grey (WorldSettings::sleepSpeed)
 };
 
 /// A line segment drawn over the scene (e.g. the viewer's drag line).

@@ -75,6 +75,9 @@ struct BodySettings {
     /// (0: only the contact particles are stopped and the body absorbs the impact by
     /// deforming; 1: the whole body stops like a rigid one). Contacts use the pair's mean.
     float contactRigidity = 0.5f;
+    /// May fall asleep when it and every body it touches have been at rest for a while
+    /// (WorldSettings::sleepSpeed); false for a body the user drives every frame.
+    bool allowSleep = true;
     Vec3 position;        ///< the mesh's origin is placed here
     Quat rotation;        ///< and the mesh rotated about it
     Vec3 velocity;        ///< initial velocity of the centre of mass, m/s
@@ -115,6 +118,17 @@ struct WorldSettings {
     /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
     /// recovery").
     float overlapRecoverySpeed = 2.0f;
+    /// Sleeping. A body whose particles' root-mean-square speed (its kinetic energy below
+    /// M s^2 / 2) and whose particles' root-mean-square motion over each frame stay below this
+    /// speed s (m/s) for sleepTime seconds falls asleep, together with every body it touches,
+    /// once they all have been that quiet as long. A sleeping body does not move and costs
+    /// nothing in the dynamics, node update, narrow phase and mesh update; awake bodies collide
+    /// with it as with a body of infinite mass. It wakes, with the bodies it fell asleep with,
+    /// when an awake body may reach it within the frame, when a force, impulse, velocity or
+    /// pose is given to it or to a body it touches, when a body it touches is removed, and by
+    /// World::setAwake. 0: bodies never sleep.
+    float sleepSpeed = 0.05f;
+    float sleepTime = 0.5f; ///< seconds a body and its neighbours must be quiet to fall asleep
 };
 
 /// Rest-pose statistics of a body's shared model.
@@ -212,6 +226,14 @@ public:
     void contacts(std::vector<ContactInfo>& out) const;
     /// Mass of one lattice particle, kg (its share of the body's mass).
     float particleMass(BodyId body, uint32_t particle) const;
+
+    /// Whether the body is awake (WorldSettings::sleepSpeed).
+    bool isAwake(BodyId body) const;
+    /// Wakes the body and every body it fell asleep with (true), or puts the body alone to
+    /// sleep now (false; its velocities become zero). A body with allowSleep false stays awake.
+    void setAwake(BodyId body, bool awake);
+    /// Bodies awake now.
+    size_t awakeCount() const;
 
     const Profile& profile() const;
     /// Frames stepped so far.

@@ -28,6 +28,9 @@ struct CollisionBody {
     float cellSize = 0;
     float mass = 0;
     float friction = 0.5f, restitution = 0, contactRigidity = 0.5f; ///< BodySettings'
+    /// Asleep (the world's): it does not move in this step, its particles' inverse masses in
+    /// the view are 0, and no contacts are made between two sleeping bodies nor with the floor.
+    bool asleep = false;
     // Written by node_update.
     Aabb bounds;        ///< of the box nodes
     float maxSpeed = 0; ///< fastest particle, m/s
@@ -58,9 +61,9 @@ struct CollisionWorld {
     WorldSettings settings;
     float substep = 1.0f / 120.0f;
     std::span<Vec3> x, v;
-    std::span<const float> invMass;
-    std::span<Vec3> nodes;     ///< 8 per box
-    std::span<Aabb> boxBounds; ///< per box
+    std::span<const float> invMass; ///< per particle; 0 for sleeping bodies (infinite mass)
+    std::span<Vec3> nodes;          ///< 8 per box
+    std::span<Aabb> boxBounds;      ///< per box
     std::span<CollisionBody> bodies;
     CollisionState& collision;
     Workers& workers;

@@ -351,8 +351,10 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
     for (size_t z = 0; z < schedule.zoneCount(); ++z)
         for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) {
             const Contact& c = contacts[impacts[j]];
-            states[c.bodyA].active = true;
-            if (c.hasB) states[c.bodyB].active = true;
+            // A body of infinite mass (asleep) has no rigid modes to move: its state stays
+            // inactive, with zero inverse mass and inertia.
+            states[c.bodyA].active = invMass[firstParticle[c.bodyA]] > 0;
+            if (c.hasB) states[c.bodyB].active = invMass[firstParticle[c.bodyB]] > 0;
             any = true;
         }
     if (!any) return; // at rest: nothing for the rigid modes to do

@@ -14,6 +14,7 @@ namespace {
 template <class F>
 void forNodesNearFloor(const CollisionWorld& w, uint32_t b, F&& fn) {
     const CollisionBody& r = w.bodies[b];
+    if (r.asleep) return; // it does not move
     const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
     const float limit = w.settings.floorHeight + skin;
     if (r.bounds.lo.y >= limit) return;

@@ -28,8 +28,11 @@ void forgetBoxes(CollisionWorld& world, uint32_t first, uint32_t count);
 /// node_update for bodies [first, last): nodes, box bounds, body bounds.
 void updateNodes(CollisionWorld& world, size_t firstBody, size_t lastBody);
 
-/// Each body's bounding sphere (as sphereTest computes them), without the pairs.
+/// Each awake body's bounding sphere (as sphereTest computes them), without the pairs; a
+/// sleeping body keeps the one it fell asleep with.
 void computeSpheres(CollisionWorld& world);
+/// One body's bounding sphere.
+void computeSphere(CollisionWorld& world, size_t body);
 
 /// sphere_test: each body's bounding sphere (centre of its node bounds; radius reaching the
 /// farthest corner of any of its box bounds, so that the test is conservative for the narrow

@@ -13,6 +13,11 @@ namespace ffd::detail {
 
 namespace {
 
+// Two sleeping bodies do not move: they need no contacts.
+bool bothAsleep(const CollisionWorld& w, uint32_t i, uint32_t j) {
+    return w.bodies[i].asleep && w.bodies[j].asleep;
+}
+
 bool spheresOverlap(const CollisionWorld& w, uint32_t i, uint32_t j) {
     const CollisionBody& a = w.bodies[i];
     const CollisionBody& b = w.bodies[j];
@@ -31,7 +36,7 @@ void sphereTestAllPairs(CollisionWorld& w, std::vector<CandidatePair>& out) {
     const uint32_t n = uint32_t(w.bodies.size());
     for (uint32_t i = 0; i < n; ++i)
         for (uint32_t j = i + 1; j < n; ++j)
-            if (spheresOverlap(w, i, j)) out.push_back({i, j});
+            if (!bothAsleep(w, i, j) && spheresOverlap(w, i, j)) out.push_back({i, j});
 }
 
 void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
@@ -69,7 +74,8 @@ void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
             const uint32_t i = order[k];
             for (size_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
                 const uint32_t j = order[m];
-                if (spheresOverlap(w, i, j)) pairs.push_back({std::min(i, j), std::max(i, j)});
+                if (!bothAsleep(w, i, j) && spheresOverlap(w, i, j))
+                    pairs.push_back({std::min(i, j), std::max(i, j)});
             }
         }
     });
@@ -79,21 +85,24 @@ void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
     });
 }
 
+void computeSphere(CollisionWorld& w, size_t i) {
+    // The centre of the node bounds, the radius to the farthest corner of any box's bounds.
+    CollisionBody& r = w.bodies[i];
+    const Vec3 c = r.bounds.centre();
+    float r2 = 0;
+    for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
+        const Aabb& b = w.boxBounds[k];
+        const Vec3 d = max(b.hi - c, c - b.lo);
+        r2 = maxNum(r2, lengthSquared(d));
+    }
+    r.sphereCentre = c;
+    r.sphereRadius = std::sqrt(r2);
+}
+
 void computeSpheres(CollisionWorld& w) {
-    // Spheres: centre of the node bounds, radius to the farthest corner of any box's bounds.
     w.workers.forRange(w.bodies.size(), [&](size_t first, size_t last, int) {
-        for (size_t i = first; i < last; ++i) {
-            CollisionBody& r = w.bodies[i];
-            const Vec3 c = r.bounds.centre();
-            float r2 = 0;
-            for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
-                const Aabb& b = w.boxBounds[k];
-                const Vec3 d = max(b.hi - c, c - b.lo);
-                r2 = maxNum(r2, lengthSquared(d));
-            }
-            r.sphereCentre = c;
-            r.sphereRadius = std::sqrt(r2);
-        }
+        for (size_t i = first; i < last; ++i)
+            if (!w.bodies[i].asleep) computeSphere(w, i);
     });
 }
 

@@ -81,6 +81,7 @@ struct IndexRange {
 /// Where a body's vertices sit in the vertex buffer of one draw.
 struct BodyDraw {
     BodyId body;
+    bool asleep = false; // drawn grey with Overlays::sleeping
     GLint baseVertex = 0;
     size_t range = 0; // into the draw's IndexRange list
 };
@@ -271,7 +272,7 @@ struct Renderer::Impl {
                                       normals[i].x, normals[i].y, normals[i].z};
                 vertexData.insert(vertexData.end(), row, row + 6);
             }
-            draws.push_back({b, baseVertex, r});
+            draws.push_back({b, !world.isAwake(b), baseVertex, r});
             baseVertex += GLint(v.size());
         }
         glBindVertexArray(meshVao);
@@ -282,12 +283,16 @@ struct Renderer::Impl {
                      indexData.data(), GL_STREAM_DRAW);
     }
 
-    void drawBodies(GLuint program, bool colours, BodyId highlight) {
+    void drawBodies(GLuint program, bool colours, BodyId highlight, bool sleeping) {
         glBindVertexArray(meshVao);
         const GLint colour = glGetUniformLocation(program, "uColour");
         for (const BodyDraw& d : draws) {
             if (colours) {
                 Vec3 c = bodyColour(d.body);
+                if (sleeping && d.asleep) { // its own hue, mostly grey
+                    const float grey = 0.299f * c.x + 0.587f * c.y + 0.114f * c.z;
+                    c = Vec3{grey, grey, grey} * 0.8f + c * 0.2f;
+                }
                 if (d.body == highlight) c = c + (Vec3{1, 1, 1} - c) * 0.45f;
                 glUniform3f(colour, c.x, c.y, c.z);
             }
@@ -372,7 +377,7 @@ struct Renderer::Impl {
             glDepthFunc(GL_LEQUAL);
             glEnable(GL_POLYGON_OFFSET_FILL);
             glPolygonOffset(-1, -4);
-            drawBodies(shadowProgram, false, options.highlight);
+            drawBodies(shadowProgram, false, options.highlight, false);
             glDisable(GL_POLYGON_OFFSET_FILL);
             glDisable(GL_STENCIL_TEST);
             glDisable(GL_BLEND);
@@ -385,7 +390,7 @@ struct Renderer::Impl {
             setMat4(meshProgram, "uViewProjection", viewProjection);
             setVec3(meshProgram, "uEye", camera.eye);
             setVec3(meshProgram, "uToLight", toLight);
-            drawBodies(meshProgram, true, options.highlight);
+            drawBodies(meshProgram, true, options.highlight, options.overlays.sleeping);
         }
 
         lines.clear();

@@ -36,6 +36,9 @@ void Viewer::Impl::handleInput() {
             case GLFW_KEY_4:
                 draw.overlays.contacts = !draw.overlays.contacts;
                 break;
+            case GLFW_KEY_5:
+                draw.overlays.sleeping = !draw.overlays.sleeping;
+                break;
             case GLFW_KEY_F:
                 frameCamera();
                 break;
@@ -170,6 +173,8 @@ void Viewer::Impl::ui() {
     ImGui::Checkbox("lattice", &draw.overlays.lattice);
     ImGui::SameLine();
     ImGui::Checkbox("contacts", &draw.overlays.contacts);
+    ImGui::SameLine();
+    ImGui::Checkbox("sleeping", &draw.overlays.sleeping);
     ImGui::Checkbox("meshes", &draw.meshes);
     ImGui::SameLine();
     ImGui::Checkbox("floor", &draw.floor);

@@ -231,6 +231,7 @@ void readMaterial(Fields f, BodySettings& b) {
                "unknown model \"" + model + "\" (expected shape-matching or mass-spring)");
     readRanges(f, b, bodySettingRanges(), detail::bodySettingMembers());
     f.boolean("region_damping", b.regionDamping);
+    f.boolean("allow_sleep", b.allowSleep);
     f.finish();
 }
 

@@ -27,6 +27,8 @@ constexpr StageInfo kStages[kStageCount] = {
     {S::ResponseAfterMove, "response_after_move",
      "projection of what overlap is left, then the velocity pass", C::ObjectsCollision},
     {S::MeshUpdate, "mesh_update", "embedded mesh vertices from the lattice", C::MeshUpdating},
+    {S::Sleeping, "sleeping", "sleeping bodies within reach woken, quiet islands put to sleep",
+     C::Dynamics},
 };
 
 constexpr TableColumnInfo kColumns[kTableColumnCount] = {

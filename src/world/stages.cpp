@@ -24,10 +24,13 @@ void forEachItem(WorldData& w, size_t n, F&& fn) {
         n, [&](size_t first, size_t last, int slot) { fn(first, last, w.scratch[size_t(slot)]); });
 }
 
-// Runs fn(firstBody, lastBody, scratch) over all bodies, split across the worker threads.
+// Runs fn(body, scratch) for each awake body (a sleeping body does not move: world/sleeping.h),
+// split across the worker threads.
 template <class F>
-void forEachBody(WorldData& w, F&& fn) {
-    forEachItem(w, w.bodies.size(), std::forward<F>(fn));
+void forEachAwakeBody(WorldData& w, F&& fn) {
+    forEachItem(w, w.awake.size(), [&](size_t first, size_t last, ThreadScratch& scratch) {
+        for (size_t k = first; k < last; ++k) fn(size_t(w.awake[k]), scratch);
+    });
 }
 
 // The external part of a body's substep: point forces through the particles' own masses, and
@@ -102,13 +105,14 @@ void latticeDynamicsStage(WorldData& w, float dt) {
         });
 }
 
-// Groups the shape-matching bodies of each model (without region damping) four at a time, in
-// body order; every other body is a batch of its own.
+// Groups the awake shape-matching bodies of each model (without region damping) four at a time,
+// in body order; every other awake body is a batch of its own.
 void rebuildDynamicsBatches(WorldData& w) {
     w.dynamicsBatches.clear();
     std::map<const BodyModel*, size_t> open; // model -> its batch still filling
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
+        if (r.asleep) continue;
         const bool lanes =
             r.model->dynamics == DynamicsModel::ShapeMatching && !r.settings.regionDamping;
         if (lanes) {
@@ -129,28 +133,23 @@ void rebuildDynamicsBatches(WorldData& w) {
 }
 
 void nodeUpdateStage(WorldData& w, CollisionWorld& view) {
-    forEachBody(w,
-                [&](size_t first, size_t last, ThreadScratch&) { updateNodes(view, first, last); });
+    forEachAwakeBody(w, [&](size_t b, ThreadScratch&) { updateNodes(view, b, b + 1); });
 }
 
 void positionUpdateStage(WorldData& w, float dt) {
-    forEachBody(w, [&](size_t first, size_t last, ThreadScratch&) {
-        for (size_t b = first; b < last; ++b) {
-            const BodyRecord& r = w.bodies[b];
-            for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-                w.x[i] += w.v[i] * dt;
-        }
+    forEachAwakeBody(w, [&](size_t b, ThreadScratch&) {
+        const BodyRecord& r = w.bodies[b];
+        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+            w.x[i] += w.v[i] * dt;
     });
 }
 
 void meshUpdateStage(WorldData& w) {
-    forEachBody(w, [&](size_t first, size_t last, ThreadScratch&) {
-        for (size_t b = first; b < last; ++b) {
-            const BodyRecord& r = w.bodies[b];
-            deformVertices(r.model->lattice,
-                           std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
-                           std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
-        }
+    forEachAwakeBody(w, [&](size_t b, ThreadScratch&) {
+        const BodyRecord& r = w.bodies[b];
+        deformVertices(r.model->lattice,
+                       std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
+                       std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
     });
 }
 

@@ -6,6 +6,7 @@
 #include "ffdaabb/error.h"
 #include "util/check.h"
 #include "world/settings_table.h"
+#include "world/sleeping.h"
 #include "world/stage_checks.h"
 #include "world/stages.h"
 #include "world/world_data.h"
@@ -171,9 +172,9 @@ void validate(const BodySettings& s) {
 namespace detail {
 
 CollisionWorld collisionView(WorldData& w) {
-    return CollisionWorld{w.settings,  w.substep, w.x,         w.v,
-                          w.invMass,   w.nodes,   w.boxBounds, w.collision.bodies,
-                          w.collision, w.workers, w.profile};
+    return CollisionWorld{w.settings,       w.substep, w.x,         w.v,
+                          w.contactInvMass, w.nodes,   w.boxBounds, w.collision.bodies,
+                          w.collision,      w.workers, w.profile};
 }
 
 void syncCollisionBodies(WorldData& w) {
@@ -189,6 +190,7 @@ void syncCollisionBodies(WorldData& w) {
         c.friction = r.settings.friction;
         c.restitution = r.settings.restitution;
         c.contactRigidity = r.settings.contactRigidity;
+        c.asleep = r.asleep;
     }
     CollisionWorld view = collisionView(w);
     rebuildCollisionTopology(view);
@@ -259,7 +261,7 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     w.bodies.push_back(std::move(r));
     w.collision.bodies.emplace_back(); // placed: its overlaps will be remembered
     detail::syncCollisionBodies(w);
-    detail::rebuildDynamicsBatches(w);
+    detail::refreshAwake(w);
     const BodyId id{slot, w.slots[slot].generation};
     updateMesh(id);
     return id;
@@ -270,6 +272,7 @@ bool World::removeBody(BodyId id) {
     const BodyRecord* found = w.find(id);
     if (!found) return false;
     const uint32_t dense = w.slots[id.index].dense;
+    detail::wakeIsland(w, dense); // the bodies it held up
     const BodyRecord r = *found;
     auto eraseRange = [](auto& vec, size_t first, size_t count) {
         vec.erase(vec.begin() + ptrdiff_t(first), vec.begin() + ptrdiff_t(first + count));
@@ -277,6 +280,7 @@ bool World::removeBody(BodyId id) {
     eraseRange(w.x, r.firstParticle, r.particleCount);
     eraseRange(w.v, r.firstParticle, r.particleCount);
     eraseRange(w.invMass, r.firstParticle, r.particleCount);
+    eraseRange(w.contactInvMass, r.firstParticle, r.particleCount);
     eraseRange(w.particleForce, r.firstParticle, r.particleCount);
     eraseRange(w.rotations, r.firstParticle, r.particleCount);
     eraseRange(w.rotationSteps, r.firstParticle, r.particleCount);
@@ -302,7 +306,7 @@ bool World::removeBody(BodyId id) {
     detail::forgetBoxes(view, r.firstBox, r.boxCount);
     w.collision.bodies.erase(w.collision.bodies.begin() + dense);
     detail::syncCollisionBodies(w);
-    detail::rebuildDynamicsBatches(w);
+    detail::refreshAwake(w);
     return true;
 }
 
@@ -341,6 +345,13 @@ const detail::CollisionBody& collisionBody(const WorldData& w, BodyId id) {
 void markPlaced(WorldData& w, BodyId id) {
     get(w, id);
     w.collision.bodies[w.slots[id.index].dense].placed = true;
+}
+
+// Something was done to the body: it wakes, with the bodies it fell asleep with, and its quiet
+// time starts again (world/sleeping.h).
+void wake(WorldData& w, BodyId id) {
+    get(w, id);
+    detail::wakeIsland(w, w.slots[id.index].dense);
 }
 
 void requireParticle(const BodyRecord& r, uint32_t particle) {
@@ -386,6 +397,7 @@ void World::step() {
     const auto frameStart = Clock::now();
     const float dt = w.settings.frameStep / float(w.settings.substeps);
     w.substep = dt;
+    timed(prof, Stage::Sleeping, [&] { detail::wakeWithinReach(w); });
     detail::CollisionWorld view = detail::collisionView(w);
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
@@ -418,6 +430,8 @@ void World::step() {
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
     if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
     FFD_CHECK(detail::meshProblem(w).empty(), "after mesh_update: " + detail::meshProblem(w));
+    timed(prof, Stage::Sleeping, [&] { detail::fallAsleep(w); });
+    prof.sleepingBodies = int(w.bodies.size() - w.awake.size());
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
@@ -514,12 +528,13 @@ const BodySettings& World::settings(BodyId id) const {
 
 void World::applyForce(BodyId id, Vec3 force) {
     requireFinite("force", force);
-    get(*state_, id);
+    wake(*state_, id);
     state_->find(id)->force += force;
 }
 
 void World::applyImpulse(BodyId id, Vec3 impulse) {
     requireFinite("impulse", impulse);
+    wake(*state_, id);
     const BodyRecord& r = get(*state_, id);
     const Vec3 dv = impulse / r.mass;
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->v[r.firstParticle + i] += dv;
@@ -529,11 +544,13 @@ void World::applyParticleForce(BodyId id, uint32_t particle, Vec3 force) {
     requireFinite("force", force);
     const BodyRecord& r = get(*state_, id);
     requireParticle(r, particle);
+    wake(*state_, id);
     state_->particleForce[r.firstParticle + particle] += force;
 }
 
 void World::translate(BodyId id, Vec3 offset) {
     requireFinite("offset", offset);
+    wake(*state_, id);
     const BodyRecord& r = get(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->x[r.firstParticle + i] += offset;
     markPlaced(*state_, id);
@@ -542,6 +559,7 @@ void World::translate(BodyId id, Vec3 offset) {
 
 void World::setVelocity(BodyId id, Vec3 velocity) {
     requireFinite("velocity", velocity);
+    wake(*state_, id);
     const BodyRecord& r = get(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->v[r.firstParticle + i] = velocity;
     state_->find(id)->halfKick = true;
@@ -557,6 +575,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
         if (!isFinite(positions[i]))
             throw InputError("particles", "position " + std::to_string(i) + " is not finite");
     }
+    wake(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) {
         state_->x[r.firstParticle + i] = positions[i];
         if (resetVelocity) state_->v[r.firstParticle + i] = {};
@@ -570,6 +589,7 @@ void World::setParticles(BodyId id, std::span<const Vec3> positions, bool resetV
 void World::updateMesh(BodyId id) {
     WorldData& w = *state_;
     const BodyRecord& r = get(w, id);
+    if (r.asleep) return; // its particles have not moved since it fell asleep
     const uint32_t dense = w.slots[id.index].dense;
     detail::CollisionWorld view = detail::collisionView(w);
     detail::updateNodes(view, dense, dense + 1);
@@ -584,8 +604,36 @@ const WorldSettings& World::settings() const {
 
 void World::setSettings(const WorldSettings& settings) {
     validate(settings);
-    state_->settings = settings;
-    state_->workers.setThreads(settings.threads);
+    WorldData& w = *state_;
+    const WorldSettings& old = w.settings;
+    // What holds a sleeping body where it is may have changed: everybody wakes.
+    const bool disturbed = settings.gravity != old.gravity || settings.floor != old.floor ||
+                           settings.floorHeight != old.floorHeight || settings.sleepSpeed == 0;
+    w.settings = settings;
+    w.workers.setThreads(settings.threads);
+    if (disturbed && w.awake.size() != w.bodies.size()) {
+        for (BodyRecord& r : w.bodies)
+            if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
+        detail::refreshAwake(w);
+    }
+}
+
+bool World::isAwake(BodyId id) const {
+    return !get(*state_, id).asleep;
+}
+
+void World::setAwake(BodyId id, bool awake) {
+    WorldData& w = *state_;
+    const BodyRecord& r = get(w, id);
+    const uint32_t dense = w.slots[id.index].dense;
+    if (awake)
+        detail::wakeIsland(w, dense);
+    else if (!r.asleep && r.settings.allowSleep)
+        detail::putToSleep(w, &dense, 1);
+}
+
+size_t World::awakeCount() const {
+    return state_->awake.size();
 }
 
 void World::setTaskSystem(std::shared_ptr<TaskSystem> tasks) {

@@ -41,6 +41,10 @@ struct BodyRecord {
     /// Velocities are stored at half steps (leapfrog): a body whose velocity was just set gets
     /// half the acceleration's kick in its first substep, which makes free fall exact.
     bool halfKick = true;
+    // Sleeping (world/sleeping.h).
+    bool asleep = false;
+    float quietTime = 0; ///< seconds it has been quiet, while awake
+    uint32_t island = 0; ///< the bodies that fell asleep together share it (0: none)
     // What the collision stages find of the body (bounds, bounding sphere, motion) is theirs:
     // WorldData::collision.bodies, same index.
 };
@@ -74,6 +78,9 @@ struct WorldData {
     std::vector<Vec3> x, v;
     std::vector<Vec3> particleForce; ///< external forces for the next step, N
     std::vector<float> invMass;
+    /// invMass as the collision stages see it: 0 for the particles of sleeping bodies, which
+    /// awake bodies meet as bodies of infinite mass (world/sleeping.h).
+    std::vector<float> contactInvMass;
     std::vector<Quat> rotations;     ///< warm start of each shape-matching region
     std::vector<Quat> rotationSteps; ///< each region's rotation over the last substep
     // Flat per-box / per-node state.
@@ -86,7 +93,11 @@ struct WorldData {
     Profile profile;
     uint64_t frame = 0;
 
-    std::vector<DynamicsBatch> dynamicsBatches; ///< rebuilt when bodies come and go
+    std::vector<DynamicsBatch> dynamicsBatches; ///< rebuilt when bodies come, go, sleep or wake
+    std::vector<uint32_t> awake;   ///< dense indices of the awake bodies, in order (same times)
+    uint32_t nextIsland = 1;       ///< the next island number for bodies falling asleep together
+    std::vector<Vec3> frameStartX; ///< particles at the frame's start (awake bodies' ranges)
+    std::vector<uint32_t> islandParent; ///< scratch of the sleep stage, per body
     CollisionState collision;
     float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
     Workers workers;                    ///< the world's own threads

@@ -65,10 +65,12 @@ std::vector<std::string> listing(const fs::path& dir) {
 }
 
 // A small scene that runs quickly: a few spheres.
-std::string smallScene(int count = 4) {
+// `awake`: the spheres never sleep, so that every frame costs its time.
+std::string smallScene(int count = 4, bool awake = false) {
     return R"({"name": "small", "objects": [{"mesh": "sphere", "count": )" + std::to_string(count) +
            R"(, "size": 1.0, "lattice": {"cells": 38}}],
-              "layout": {"columns": [2, 2], "spacing": 1.3}})";
+              "world": {"sleep_speed": )" +
+           (awake ? "0" : "0.05") + R"(}, "layout": {"columns": [2, 2], "spacing": 1.3}})";
 }
 
 // Starts the CLI without waiting; stdout and stderr go to /dev/null.
@@ -271,10 +273,10 @@ TEST(CliInput, ARunWhoseOutputFolderVanishesLeavesNoOutputs) {
     // the end: the stats cannot be written, and the mesh export, which could, is not left
     // behind either (outputs are all or nothing).
     TempDir dir;
-    writeFile(dir / "scene.json", smallScene(2));
+    writeFile(dir / "scene.json", smallScene(2, true));
     fs::create_directories(dir / "out");
     fs::create_directories(dir / "keep");
-    // 10,000 frames of two spheres: about 1 s in a release build, 7 s under ASan.
+    // 10,000 frames of two spheres awake: about 1 s in a release build, 7 s under ASan.
     const pid_t pid =
         startCli({"run", "--scene", (dir / "scene.json").string(), "--quiet", "--frames", "10000",
                   "--stats", (dir / "out" / "stats.json").string(), "--export-obj",
@@ -292,7 +294,7 @@ TEST(CliInput, ARunWhoseOutputFolderVanishesLeavesNoOutputs) {
 
 TEST(CliInput, AKilledRunLeavesNoOutputs) {
     TempDir dir;
-    writeFile(dir / "scene.json", smallScene());
+    writeFile(dir / "scene.json", smallScene(4, true));
     const pid_t pid = startCli({"run", "--scene", (dir / "scene.json").string(), "--quiet",
                                 "--frames", "10000000", "--stats", (dir / "stats.json").string(),
                                 "--export-obj", (dir / "final.obj").string()});

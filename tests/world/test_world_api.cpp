@@ -86,7 +86,9 @@ TEST(WorldApi, BodiesOfTheSameMeshShareOneModel) {
 }
 
 TEST(WorldApi, ContactsNameTheirBodiesAndPushThemApart) {
-    World world;
+    WorldSettings awake; // the stack stays awake, with its resting contacts, for 300 frames
+    awake.sleepSpeed = 0;
+    World world(awake);
     const TriangleMesh mesh = ball();
     const BodyId lower = world.addBody(mesh, at({0, 0.5f, 0}));
     const BodyId upper = world.addBody(mesh, at({0, 1.6f, 0}));
