@@ -836,15 +836,15 @@ void World::restoreState(std::span<const uint8_t> state) {
     if (version != kFormatVersion)
         refuse("format version " + std::to_string(version) + ", this build reads version " +
                std::to_string(kFormatVersion));
-    header.u32(); // reserved
+    if (header.u32() != 0) refuse("malformed: the header's reserved field is not 0");
     const uint64_t bytes = header.u64(), sum = header.u64();
     const std::span<const uint8_t> payload = state.subspan(kHeaderBytes);
     if (payload.size() < bytes)
         refuse("truncated: the header announces " + std::to_string(bytes) +
                " bytes after it, there are " + std::to_string(payload.size()));
     if (payload.size() > bytes)
-        refuse(std::to_string(payload.size() - bytes) +
-               " bytes follow the state's end (expected none)");
+        refuse("malformed: " + std::to_string(payload.size() - bytes) +
+               " bytes after the state's end (expected none)");
     if (checksum(payload) != sum) refuse("corrupted: its checksum does not match its contents");
 
     // The sections, each once, each known.

@@ -313,3 +313,197 @@ TEST(Snapshot, EveryPieceOfTheStateChangesTheNextFrame) {
         }
     }
 }
+
+// A state names the scene it belongs to: restored into a world of other bodies or settings it
+// is refused with what differs, and the world is left as it was. The thread count may differ.
+TEST(Snapshot, RefusesAnotherSceneNamingWhatDiffers) {
+    auto world = [](auto&& edit) {
+        WorldSettings ws;
+        BodySettings bs = sphereAt({0, 0.6f, 0});
+        TriangleMesh mesh = ball();
+        edit(ws, bs, mesh);
+        World w(ws);
+        w.addBody(ball(), sphereAt({1.5f, 0.6f, 0}));
+        w.addBody(mesh, bs);
+        w.addBody(ball(), sphereAt({-1.5f, 0.6f, 0}));
+        for (int f = 0; f < 5; ++f) w.step();
+        return w;
+    };
+    auto same = [](WorldSettings&, BodySettings&, TriangleMesh&) {};
+    const Bytes state = world(same).saveState();
+    struct Case {
+        const char* expected;
+        void (*edit)(WorldSettings&, BodySettings&, TriangleMesh&);
+    };
+    const Case cases[] = {
+        {"saved with the world setting substeps 2, this world has 3",
+         [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.substeps = 3; }},
+        {"saved with the world setting mode enhanced, this world has previous",
+         [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.mode = CollisionMode::Previous; }},
+        {"saved with the world setting gravity.y -9.81000042, this world has -5",
+         [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.gravity.y = -5; }},
+        {"saved with body 1 (of 3, in the order added) of friction 0.5, this world has 0.800000012",
+         [](WorldSettings&, BodySettings& b, TriangleMesh&) { b.friction = 0.8f; }},
+        {"saved with body 1 (of 3, in the order added) of lattice.targetCells 38, this world has "
+         "64",
+         [](WorldSettings&, BodySettings& b, TriangleMesh&) { b.lattice.targetCells = 64; }},
+        {"saved with body 1 (of 3, in the order added) of model shape-matching, this world has "
+         "mass-spring",
+         [](WorldSettings&, BodySettings& b, TriangleMesh&) {
+             b.model = DynamicsModel::MassSpring;
+         }},
+        {"saved with body 1 (of 3, in the order added) made from another mesh",
+         [](WorldSettings&, BodySettings&, TriangleMesh& m) { m.positions[0].x *= 1.01f; }},
+    };
+    for (const Case& c : cases) {
+        World other = world(c.edit);
+        const Bytes before = other.saveState();
+        const std::string message = refusal(other, state);
+        EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+        EXPECT_EQ(message.rfind("state: ", 0), 0u) << message;
+        EXPECT_EQ(other.saveState(), before) << c.expected; // unchanged
+    }
+    World two;
+    addBalls(two, 2);
+    EXPECT_EQ(refusal(two, state), "state: saved from a scene of 3 bodies, this world has 2");
+    // Another thread count, and another pose of the bodies, are the same scene.
+    World threads = world([](WorldSettings& w, BodySettings& b, TriangleMesh&) {
+        w.threads = 2;
+        b.position = {0, 3, 0};
+    });
+    EXPECT_EQ(refusal(threads, state), "");
+    EXPECT_EQ(threads.saveState().size(), state.size());
+}
+
+// Bytes that are not a complete state of this format and build are refused with what is wrong
+// with them; the world is left unchanged.
+TEST(Snapshot, RefusesBytesThatAreNotAState) {
+    World world;
+    addBalls(world, 3);
+    for (int f = 0; f < 30; ++f) world.step();
+    const Bytes state = world.saveState();
+    for (int f = 0; f < 5; ++f) world.step();
+    const Bytes before = world.saveState();
+    auto expectRefused = [&](const Bytes& bytes, const std::string& expected) {
+        const std::string message = refusal(world, bytes);
+        EXPECT_NE(message.find(expected), std::string::npos)
+            << "expected \"" << expected << "\", got \"" << message << "\"";
+        EXPECT_EQ(world.saveState(), before) << expected;
+    };
+    expectRefused({}, "state: not an ffdaabb state");
+    expectRefused(Bytes{'h', 'e', 'l', 'l', 'o'}, "state: not an ffdaabb state");
+    expectRefused(Bytes(state.begin(), state.begin() + 20), "state: truncated: 20 bytes, shorter");
+    Bytes b = state;
+    writeU32(b, 8, 2);
+    expectRefused(b, "state: format version 2, this build reads version 1");
+    b = state;
+    b.pop_back();
+    expectRefused(b, "state: truncated: the header announces");
+    b = state;
+    b.push_back(0);
+    expectRefused(b, "state: malformed: 1 bytes after the state's end (expected none)");
+    b = state;
+    b[b.size() / 2] ^= 0x10;
+    expectRefused(b, "state: corrupted: its checksum does not match");
+    b = state;
+    b[12] = 1;
+    expectRefused(b, "state: malformed: the header's reserved field is not 0");
+    // Another build: the same bytes but for the build they name (checksum made right).
+    b = state;
+    const std::string build = "ffdaabb 9.9.9, state format 1, GCC 99, Release, x86-64";
+    Bytes named(4, 0);
+    writeU32(named, 0, uint32_t(build.size()));
+    named.insert(named.end(), build.begin(), build.end());
+    replaceSection(b, "BILD", named);
+    expectRefused(b, "state: saved by another build (ffdaabb 9.9.9, state format 1, GCC 99, "
+                     "Release, x86-64); this is ffdaabb ");
+    // A section this build does not know (state it could not restore), and one missing.
+    b = state;
+    const Bytes extra = {'S', 'L', 'E', 'P', 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 7};
+    b.insert(b.end(), extra.begin(), extra.end());
+    reseal(b);
+    expectRefused(b, "state: holds a section this build does not know (SLEP)");
+    b = state;
+    {
+        const auto [at, length] = findSection(b, "VERT");
+        b.erase(b.begin() + ptrdiff_t(at - 16), b.begin() + ptrdiff_t(at + length));
+        reseal(b);
+    }
+    expectRefused(b, "state: malformed: section VERT is missing");
+    // Sealed but inconsistent: a slot that names a body that does not exist.
+    b = state;
+    writeU32(b, findSection(b, "SLOT").first + 8, 7);
+    reseal(b);
+    expectRefused(b, "state: malformed: section SLOT gives slot 0 body 7");
+    // A non-finite position.
+    b = state;
+    writeU32(b, findSection(b, "PART").first + 8, 0x7FC00000u);
+    reseal(b);
+    expectRefused(b, "state: malformed: section PART holds a non-finite position (0)");
+    EXPECT_EQ(refusal(world, state), ""); // and the state itself is fine
+}
+
+// Random damage never crashes a restore: flipped bytes and truncations are refused (the
+// checksum and the header catch them all), and damage sealed with a right checksum is either
+// refused, leaving the world unchanged, or a state the world takes.
+TEST(Snapshot, RandomDamageIsRefusedAndNeverCrashes) {
+    World world;
+    addBalls(world, 4);
+    for (int f = 0; f < 40; ++f) world.step();
+    const Bytes state = world.saveState();
+    const Bytes before = world.saveState();
+    std::mt19937 random(18);
+    int refused = 0, sealedRefused = 0, sealedTaken = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        Bytes b = state;
+        const int kind = trial % 3;
+        if (kind == 0) {
+            b.resize(std::uniform_int_distribution<size_t>(0, b.size() - 1)(random));
+        } else {
+            const int flips = 1 + int(random() % 8);
+            for (int k = 0; k < flips; ++k) {
+                // Half of the flips in the header and the section framing's first bytes.
+                const size_t limit = random() % 2 ? 200 : b.size();
+                b[random() % limit] ^= uint8_t(1u << (random() % 8));
+            }
+            if (b == state) continue;
+            if (kind == 2 && b.size() > kHeader) reseal(b); // past the checksum
+        }
+        const std::string message = refusal(world, b);
+        if (kind == 2) {
+            if (message.empty()) {
+                ++sealedTaken;
+                world.restoreState(state);
+            } else {
+                ++sealedRefused;
+                ASSERT_EQ(world.saveState(), before) << message;
+            }
+            continue;
+        }
+        ASSERT_FALSE(message.empty()) << "trial " << trial << " was taken";
+        ASSERT_EQ(message.rfind("state: ", 0), 0u) << message;
+        ++refused;
+        if (trial % 10 == 0) {
+            ASSERT_EQ(world.saveState(), before);
+        }
+    }
+    EXPECT_GT(refused, 1900);
+    EXPECT_GT(sealedRefused, 0);
+    std::printf("%d damaged states refused; of the resealed ones %d refused, %d taken\n", refused,
+                sealedRefused, sealedTaken);
+}
+
+// The bytes depend on the state alone: saved twice, or from two worlds built alike, they are
+// the same; they start with the format's magic.
+TEST(Snapshot, BytesDependOnTheStateAlone) {
+    World a, b(WorldSettings{.threads = 2});
+    addBalls(a, 3);
+    addBalls(b, 3);
+    for (int f = 0; f < 20; ++f) a.step(), b.step();
+    const Bytes state = a.saveState();
+    EXPECT_EQ(a.saveState(), state);
+    EXPECT_EQ(b.saveState(), state); // threads are not part of the state
+    ASSERT_GT(state.size(), kHeader);
+    EXPECT_EQ(std::string(state.begin(), state.begin() + 8), "FFDSTATE");
+    EXPECT_EQ(readU64(state, 16), state.size() - kHeader);
+}
