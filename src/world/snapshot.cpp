@@ -45,6 +45,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <string>
@@ -87,9 +88,15 @@ std::string tagName(uint32_t tag) {
     throw InputError("state", problem);
 }
 
+// The shortest text that reads back as the same value (as the same float, for a float's value).
 std::string num(double v) {
+    const bool isFloat = double(float(v)) == v;
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
+    for (int digits = 6; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+        const double back = std::strtod(buf, nullptr);
+        if (isFloat ? float(back) == float(v) : back == v) break;
+    }
     return buf;
 }
 

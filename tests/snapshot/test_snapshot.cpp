@@ -151,7 +151,9 @@ TEST_P(PaperScene, SavedAtFrame100AndRestoredStepsOnBitForBit) {
     const auto t0 = std::chrono::steady_clock::now();
     SceneBuild uninterrupted = build(name, 1);
     for (int f = 0; f < 100; ++f) uninterrupted.world.step();
+    const auto t1 = std::chrono::steady_clock::now();
     const Bytes saved = uninterrupted.world.saveState();
+    const double saveSeconds = secondsSince(t1);
     std::vector<uint64_t> hashes;
     for (int f = 0; f < frames; ++f) {
         uninterrupted.world.step();
@@ -160,7 +162,9 @@ TEST_P(PaperScene, SavedAtFrame100AndRestoredStepsOnBitForBit) {
 
     SceneBuild restored = build(name, 2);
     ASSERT_NE(restored.world.stateHash(), uninterrupted.world.stateHash());
+    const auto t2 = std::chrono::steady_clock::now();
     restored.world.restoreState(saved);
+    const double restoreSeconds = secondsSince(t2);
     EXPECT_EQ(restored.world.frame(), 100u);
     EXPECT_EQ(restored.world.saveState(), saved); // restored is exactly what was saved
     for (int f = 0; f < frames; ++f) {
@@ -170,8 +174,10 @@ TEST_P(PaperScene, SavedAtFrame100AndRestoredStepsOnBitForBit) {
     }
     EXPECT_EQ(restored.world.frame(), uninterrupted.world.frame());
     EXPECT_EQ(restored.world.saveState(), uninterrupted.world.saveState());
-    std::printf("%s: %zu bytes of state, 100 + %d frames, restored and compared in %.1f s\n", name,
-                saved.size(), frames, secondsSince(t0));
+    std::printf("%s: %zu bytes of state (saved in %.1f ms, restored in %.1f ms), 100 + %d "
+                "frames, restored and compared in %.1f s\n",
+                name, saved.size(), 1e3 * saveSeconds, 1e3 * restoreSeconds, frames,
+                secondsSince(t0));
 }
 
 INSTANTIATE_TEST_SUITE_P(Snapshot, PaperScene,
@@ -297,17 +303,17 @@ TEST(Snapshot, EveryPieceOfTheStateChangesTheNextFrame) {
         saved.world.step();
         const uint64_t next = saved.world.stateHash();
         SceneBuild fresh = buildScene(scene);
-        const detail::WorldData& freshData = detail::dataOf(fresh.world);
-        const std::vector<Quat> rotations = freshData.rotations, steps = freshData.rotationSteps;
+        detail::WorldData reference; // what a freshly built world holds
+        reference.rotations = detail::dataOf(fresh.world).rotations;
+        reference.rotationSteps = detail::dataOf(fresh.world).rotationSteps;
+        World& restored = fresh.world;
+        restored.restoreState(state);
+        restored.step();
+        EXPECT_EQ(restored.stateHash(), next); // the whole state: the same next frame
         for (const Case& c : cases) {
             if (c.oneSpot != spot) continue;
-            World restored = std::move(buildScene(scene).world);
-            restored.restoreState(state);
-            detail::WorldData& w = detail::dataOf(restored);
-            detail::WorldData reference;
-            reference.rotations = rotations;
-            reference.rotationSteps = steps;
-            c.reset(w, reference);
+            restored.restoreState(state); // a rewind restores every piece
+            c.reset(detail::dataOf(restored), reference);
             restored.step();
             EXPECT_NE(restored.stateHash(), next) << c.what;
         }
@@ -340,9 +346,9 @@ TEST(Snapshot, RefusesAnotherSceneNamingWhatDiffers) {
          [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.substeps = 3; }},
         {"saved with the world setting mode enhanced, this world has previous",
          [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.mode = CollisionMode::Previous; }},
-        {"saved with the world setting gravity.y -9.81000042, this world has -5",
+        {"saved with the world setting gravity.y -9.81, this world has -5",
          [](WorldSettings& w, BodySettings&, TriangleMesh&) { w.gravity.y = -5; }},
-        {"saved with body 1 (of 3, in the order added) of friction 0.5, this world has 0.800000012",
+        {"saved with body 1 (of 3, in the order added) of friction 0.5, this world has 0.8",
          [](WorldSettings&, BodySettings& b, TriangleMesh&) { b.friction = 0.8f; }},
         {"saved with body 1 (of 3, in the order added) of lattice.targetCells 38, this world has "
          "64",
