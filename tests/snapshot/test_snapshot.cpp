@@ -190,8 +190,14 @@ INSTANTIATE_TEST_SUITE_P(Snapshot, PaperScene,
 // of the same bodies built without that history, the handles are the saved world's and the
 // world steps on bit for bit.
 TEST(Snapshot, RemovedAndAddedBodiesKeepTheirHandles) {
+    // The other dynamics too: a mass-spring ball and one damped per region, dropped on the pile.
+    BodySettings springs = sphereAt({0.2f, 10, 0}), regions = sphereAt({-0.2f, 11.5f, 0});
+    springs.model = DynamicsModel::MassSpring;
+    regions.regionDamping = true;
     World saved;
     std::vector<BodyId> ids = addBalls(saved, 8);
+    saved.addBody(ball(), springs);
+    saved.addBody(ball(), regions);
     for (int f = 0; f < 40; ++f) saved.step();
     ASSERT_TRUE(saved.removeBody(ids[2]));
     ASSERT_TRUE(saved.removeBody(ids[5]));
@@ -211,7 +217,10 @@ TEST(Snapshot, RemovedAndAddedBodiesKeepTheirHandles) {
     const std::vector<uint64_t> hashes = hashesOfNext(saved, 60);
 
     World restored;
-    addBalls(restored, 7, 5.0f); // the same bodies, elsewhere, no history
+    addBalls(restored, 6, 5.0f); // the same bodies, in the same order, elsewhere, no history
+    restored.addBody(ball(), springs);
+    restored.addBody(ball(), regions);
+    addBalls(restored, 1, 20.0f);
     EXPECT_NE(restored.bodies(), handles);
     restored.restoreState(state);
     EXPECT_EQ(restored.bodies(), handles);
