@@ -8,9 +8,12 @@
 
 #include <fmt/core.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 namespace ffd::cli {
 
@@ -19,7 +22,7 @@ namespace {
 struct RunCommandOptions {
     SceneFlags scene;
     std::string frames = "300", warmup = "0", measureEvery = "10";
-    std::string stats, exportObj;
+    std::string stats, exportObj, saveState, loadState;
     bool quiet = false;
 };
 
@@ -55,42 +58,84 @@ Scene sceneFromOptions(const std::string& name, int objects, const std::string& 
 
 namespace {
 
+// The bytes of the --load-state file.
+std::vector<uint8_t> readStateFile(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError("--load-state", "cannot read \"" + path + "\": it is a folder");
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file)
+        throw InputError("--load-state",
+                         "cannot read \"" + path + "\": " + std::string(std::strerror(errno)));
+    std::vector<uint8_t> bytes;
+    uint8_t buffer[1 << 16];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0)
+        bytes.insert(bytes.end(), buffer, buffer + n);
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) throw InputError("--load-state", "cannot read \"" + path + "\": read error");
+    return bytes;
+}
+
 int run(const RunCommandOptions& o) {
     const int frames = int(parseInteger("--frames", o.frames, 1, 10000000));
     const int warmup = int(parseInteger("--warmup", o.warmup, 0, 10000000));
     const int measureEvery = int(parseInteger("--measure-every", o.measureEvery, 0, 10000000));
     checkOutputPath("--stats", o.stats);
     checkOutputPath("--export-obj", o.exportObj);
+    checkOutputPath("--save-state", o.saveState);
     checkDistinctOutputs("--stats", o.stats, "--export-obj", o.exportObj);
+    checkDistinctOutputs("--stats", o.stats, "--save-state", o.saveState);
+    checkDistinctOutputs("--export-obj", o.exportObj, "--save-state", o.saveState);
     const Scene scene = sceneFromFlags(o.scene);
+    const std::vector<uint8_t> loaded =
+        o.loadState.empty() ? std::vector<uint8_t>{} : readStateFile(o.loadState);
 
     RunOptions ro;
     ro.frames = frames;
     ro.warmup = warmup;
     ro.measureEvery = measureEvery;
     if (!o.quiet) ro.progress = progressBar(scene.name);
-    // Both outputs go to temporary files that are renamed into place together at the end: a
-    // run that fails, or an output that cannot be written, leaves neither behind.
-    std::optional<AtomicFile> objFile, statsFile;
+    if (!o.loadState.empty())
+        ro.atStart = [&](SceneBuild& build) {
+            try {
+                build.world.restoreState(loaded);
+            } catch (const InputError& e) {
+                throw InputError("--load-state",
+                                 "cannot restore \"" + o.loadState + "\": " + e.problem());
+            }
+        };
+    // The outputs go to temporary files that are renamed into place together at the end: a
+    // run that fails, or an output that cannot be written, leaves none of them behind.
+    std::optional<AtomicFile> objFile, statsFile, stateFile;
     const RunResult r = runScene(scene, ro, [&](const SceneBuild& build) {
-        if (o.exportObj.empty()) return;
-        objFile.emplace(o.exportObj);
-        writeObj(build, objFile->handle());
+        if (!o.exportObj.empty()) {
+            objFile.emplace(o.exportObj);
+            writeObj(build, objFile->handle());
+        }
+        if (!o.saveState.empty()) {
+            stateFile.emplace(o.saveState);
+            const std::vector<uint8_t> bytes = build.world.saveState();
+            std::fwrite(bytes.data(), 1, bytes.size(), stateFile->handle());
+        }
     });
     if (!o.stats.empty()) {
         statsFile.emplace(o.stats);
         const std::string text = statsJson(r).dump(2) + "\n";
         std::fwrite(text.data(), 1, text.size(), statsFile->handle());
     }
-    if (objFile) objFile->commit();
-    if (statsFile) {
+    std::vector<const std::filesystem::path*> committed;
+    for (std::optional<AtomicFile>* file : {&objFile, &statsFile, &stateFile}) {
+        if (!*file) continue;
         try {
-            statsFile->commit();
+            (*file)->commit();
         } catch (const InputError&) {
             std::error_code ec;
-            if (objFile) std::filesystem::remove(o.exportObj, ec);
+            for (const std::filesystem::path* path : committed) std::filesystem::remove(*path, ec);
             throw;
         }
+        committed.push_back(&(*file)->path());
     }
     if (o.quiet) return r.finite ? 0 : 1;
 
@@ -104,6 +149,8 @@ int run(const RunCommandOptions& o) {
                r.cells, double(r.cells) / r.objects, r.particles, r.nodes, r.buildMs);
     fmt::print("  run         {} frames ({:.2f} s simulated) after {} warm-up, {:.2f} s wall\n",
                r.frames, r.frames * scene.world.frameStep, r.warmup, r.wallSeconds);
+    if (!o.loadState.empty())
+        fmt::print("  state       restored frame {} from {}\n", r.startFrame, o.loadState);
     fmt::print("  {:<22} {:>10} {:>10}\n", "stage (ms/frame)", "mean", "median");
     for (const StageInfo& s : stageTable())
         fmt::print("  {:<22} {:>10.3f} {:>10.3f}\n", s.key, r.meanMs[timingOf(s.stage)],
@@ -130,6 +177,9 @@ int run(const RunCommandOptions& o) {
     fmt::print("  state hash         {:016x}   finite: {}\n", r.stateHash, r.finite ? "yes" : "NO");
     if (!o.stats.empty()) fmt::print("  stats written to   {}\n", o.stats);
     if (!o.exportObj.empty()) fmt::print("  meshes written to  {}\n", o.exportObj);
+    if (!o.saveState.empty())
+        fmt::print("  state written to   {} (frame {})\n", o.saveState,
+                   r.startFrame + uint64_t(r.warmup + r.frames));
     return r.finite ? 0 : 1;
 }
 
@@ -151,6 +201,12 @@ void addRunCommand(CLI::App& app, Action& action) {
     cmd->add_option("--stats", o->stats, "Write the run's statistics as JSON to this file");
     cmd->add_option("--export-obj", o->exportObj,
                     "Write the final deformed meshes to this OBJ file");
+    cmd->add_option("--save-state", o->saveState,
+                    "Write the world's whole state after the last frame to this file (restored "
+                    "by --load-state with the same scene flags, on this build)");
+    cmd->add_option("--load-state", o->loadState,
+                    "Restore the state in this file (from --save-state, same scene flags, "
+                    "--threads aside) before the first frame: the run goes on from its frame");
     cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
     cmd->callback([o, &action] { action = [o] { return run(*o); }; });
 }

@@ -60,6 +60,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     r.threads = scene.world.threads;
     r.seed = scene.layout.seed;
     SceneBuild build = buildScene(scene);
+    if (options.atStart) {
+        options.atStart(build);
+        build.bodies = build.world.bodies(); // a restored state brings its handles
+    }
+    r.startFrame = build.world.frame();
     r.vertices = build.vertices;
     r.triangles = build.triangles;
     r.cells = build.cells;
@@ -90,7 +95,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     for (int f = 0; f < total; ++f) {
         build.world.step();
         if (options.measureEvery > 0 && ((f + 1) % options.measureEvery == 0 || f + 1 == total))
-            sample(f + 1);
+            sample(int(build.world.frame()));
         if (f >= options.warmup) {
             const Profile& p = build.world.profile();
             r.frameMs.push_back(timings(p));
@@ -149,6 +154,7 @@ nlohmann::json statsJson(const RunResult& r) {
             {"cells_per_object", double(r.cells) / std::max(1, r.objects)},
             {"frames", r.frames},
             {"warmup_frames", r.warmup},
+            {"start_frame", r.startFrame},
             {"threads", r.threads},
             {"seed", r.seed},
             {"stage_ms", stagesJson(r.meanMs)},

@@ -38,6 +38,8 @@ struct RunOptions {
     int frames = 300;
     int warmup = 0;                                    ///< frames stepped before timing starts
     std::function<void(int done, int total)> progress; ///< called after each frame
+    /// Called on the built scene before the first frame (to restore a saved state, say).
+    std::function<void(SceneBuild&)> atStart;
     /// Measure the meshes' interpenetration (bench/common/interpenetration.h) after every
     /// measureEvery-th frame (warm-up included) and after the last; 0: never. Untimed.
     int measureEvery = 0;
@@ -46,6 +48,7 @@ struct RunOptions {
 struct RunResult {
     std::string scene, mode;
     int objects = 0, frames = 0, warmup = 0, threads = 1;
+    uint64_t startFrame = 0; ///< the world's frame before the first (a restored state's)
     uint32_t seed = 0;
     size_t vertices = 0, triangles = 0, cells = 0, particles = 0, nodes = 0;
     double buildMs = 0, wallSeconds = 0;

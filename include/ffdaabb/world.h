@@ -243,6 +243,29 @@ public:
     /// Total kinetic energy (J) of all particles.
     double kineticEnergy() const;
 
+    /// Snapshots: the world's whole dynamic state as bytes (docs/ARCHITECTURE.md, "Snapshots"):
+    /// every particle's position, velocity and pending force, the shape-matching warm starts,
+    /// box nodes and bounds, mesh vertices, each body's pending force and initial pose, the
+    /// frame counter, the body handles (slots, generations, free slots) and what the collision
+    /// pipeline carries from one substep to the next (box-pair claims, the overlap recovery's
+    /// pairs, which bodies were placed since the last step). Not the profile, nor the last
+    /// step's contacts. The bytes name the build and the scene they come from.
+    ///
+    ///   std::vector<uint8_t> saved = world.saveState();   // at frame 100
+    ///   ...                                                // rebuild the scene, or step on
+    ///   world.restoreState(saved);                         // frame 100 again, bit for bit
+    std::vector<uint8_t> saveState() const;
+    /// Restores a state from saveState() into this world (to rewind) or into a world built
+    /// from the same scene: the same world settings (threads aside) and the same bodies in the
+    /// same order, each from the same mesh with the same lattice, model and material settings.
+    /// Stepping on then gives, bit for bit, the states the saved world reached, at any thread
+    /// count. Body handles become the saved world's (world.bodies() lists them); spans obtained
+    /// before are invalidated; contacts() is empty and profile() zero until the next step.
+    /// Throws InputError, naming what differs, for bytes that are not a state, truncated or
+    /// corrupted, of another format version or build, or of another scene; the world is then
+    /// left unchanged.
+    void restoreState(std::span<const uint8_t> state);
+
 private:
     friend struct detail::WorldAccess; // the library's tools and tests (src/world/world_data.h)
     struct State;
