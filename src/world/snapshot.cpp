@@ -33,12 +33,14 @@
 //         bounding sphere
 //   CLAM  the box pairs' claims of the last substep (object_contacts.cpp: they bound the next)
 //   OVLP  the overlap recovery's remembered pairs (overlap_recovery.h)
+//   SLEP  sleeping (world/sleeping.h): each body asleep or not, its island and quiet time
 //
 // A restore reads and checks every section into a staging copy before it changes anything,
 // then swaps it in: a refused state leaves the world as it was.
 #include "collision/overlap_recovery.h"
 #include "ffdaabb/error.h"
 #include "world/settings_table.h"
+#include "world/sleeping.h"
 #include "world/world_data.h"
 
 #include <algorithm>
@@ -358,10 +360,11 @@ SceneDescription describeScene(const WorldData& w) {
     world("mode", double(w.settings.mode));
     world("meshUpdate", w.settings.meshUpdate);
 
-    d.bodyNames = {
-        "mesh.vertices",       "mesh.triangles",       "lattice.cellSize", "lattice.resolution",
-        "lattice.targetCells", "lattice.fillInterior", "lattice.boxSkin",  "model",
-        "regionDamping"};
+    d.bodyNames = {"mesh.vertices",       "mesh.triangles",
+                   "lattice.cellSize",    "lattice.resolution",
+                   "lattice.targetCells", "lattice.fillInterior",
+                   "lattice.boxSkin",     "model",
+                   "regionDamping",       "allowSleep"};
     for (const SettingRange& r : bodySettingRanges()) d.bodyNames.push_back(r.field);
     for (const char* name : {"particles", "boxes", "massKg", "cellSizeM"})
         d.bodyNames.push_back(name);
@@ -383,7 +386,8 @@ SceneDescription describeScene(const WorldData& w) {
         for (const double v : {double(mesh.positions.size()), double(mesh.triangles.size()),
                                double(s.lattice.cellSize), double(s.lattice.resolution),
                                double(s.lattice.targetCells), double(s.lattice.fillInterior),
-                               double(s.lattice.boxSkin), double(s.model), double(s.regionDamping)})
+                               double(s.lattice.boxSkin), double(s.model), double(s.regionDamping),
+                               double(s.allowSleep)})
             d.bodyValues.push_back(v);
         for (const auto& m : bodyMembers) d.bodyValues.push_back(detail::settingValue(s, m));
         for (const double v :
@@ -415,7 +419,7 @@ std::string valueText(const std::string& name, double v) {
     if (name == "mode" && v >= 0 && v <= 3) return toString(CollisionMode(int(v)));
     if (name == "model" && (v == 0 || v == 1)) return toString(DynamicsModel(int(v)));
     if (name == "floor" || name == "meshUpdate" || name == "regionDamping" ||
-        name == "lattice.fillInterior")
+        name == "allowSleep" || name == "lattice.fillInterior")
         return v != 0 ? "on" : "off";
     return num(v);
 }
@@ -492,6 +496,13 @@ struct Staged {
     std::vector<Vec3> nodes;
     std::vector<Aabb> boxBounds;
     std::vector<Vec3> vertices;
+    struct Sleep {
+        bool asleep = false;
+        float quietTime = 0;
+        uint32_t island = 0;
+    };
+    std::vector<Sleep> sleep;
+    uint32_t nextIsland = 1;
     struct Collision {
         bool placed = false;
         Aabb bounds;
@@ -739,6 +750,33 @@ void readOverlaps(Reader& in, const WorldData& w, Staged& st) {
     in.end();
 }
 
+// Sleeping (world/sleeping.h): who sleeps, with whom, and how long the awake have been quiet.
+void writeSleep(const WorldData& w, Writer& out) {
+    out.u32(w.nextIsland);
+    out.u32(uint32_t(w.bodies.size()));
+    for (const BodyRecord& r : w.bodies) {
+        out.u8(r.asleep);
+        out.f32(r.quietTime);
+        out.u32(r.island);
+    }
+}
+
+void readSleep(Reader& in, const WorldData& w, Staged& st) {
+    st.nextIsland = in.u32();
+    if (st.nextIsland == 0) in.malformed("holds island number 0 as the next");
+    if (in.u32() != w.bodies.size()) in.malformed("holds another number of bodies");
+    st.sleep.resize(w.bodies.size());
+    for (Staged::Sleep& b : st.sleep) {
+        b.asleep = in.flag();
+        b.quietTime = in.f32();
+        b.island = in.u32();
+        if (!std::isfinite(b.quietTime) || b.quietTime < 0)
+            in.malformed("holds a quiet time that is negative or not finite");
+        if (b.asleep != (b.island != 0)) in.malformed("holds a sleeper without an island");
+    }
+    in.end();
+}
+
 struct Section {
     uint32_t tag;
     uint32_t version;
@@ -759,6 +797,7 @@ constexpr Section kSections[] = {
     {tagOf("COLB"), 1, writeCollisionBodies, readCollisionBodies},
     {tagOf("CLAM"), 1, writeClaims, readClaims},
     {tagOf("OVLP"), 1, writeOverlaps, readOverlaps},
+    {tagOf("SLEP"), 1, writeSleep, readSleep},
 };
 
 // Writes the staged state into the world (nothing here can fail).
@@ -776,6 +815,9 @@ void apply(WorldData& w, Staged& st) {
         r.settings.rotation = s.rotation;
         r.settings.velocity = s.velocity;
         r.settings.angularVelocity = s.angularVelocity;
+        r.asleep = st.sleep[b].asleep;
+        r.quietTime = st.sleep[b].quietTime;
+        r.island = st.sleep[b].island;
         detail::CollisionBody& c = w.collision.bodies[b];
         const Staged::Collision& sc = st.collision[b];
         c.placed = sc.placed;
@@ -802,6 +844,8 @@ void apply(WorldData& w, Staged& st) {
     cs.pairs.clear();
     cs.all.clear(); // the last step's contacts are not part of the state
     cs.objectCount = 0;
+    w.nextIsland = st.nextIsland;
+    detail::refreshAwake(w); // the awake list, contact inverse masses, batches, flags
     w.profile = Profile{};
 }
 

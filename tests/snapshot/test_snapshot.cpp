@@ -274,6 +274,37 @@ TEST(Snapshot, OverlapRecoveryRoundTrips) {
     EXPECT_EQ(hashesOfNext(restored.world, 10), firstHashes);
 }
 
+TEST(Snapshot, SleepingBodiesRoundTripAndWakeAlike) {
+    // Spheres, some asleep and some still settling: saved, restored into a fresh world, they
+    // sleep and wake frame for frame as in the world that never stopped, also when a sleeper is
+    // woken by hand after the restore.
+    Scene scene = loadScene("spheres");
+    setObjectCount(scene, 30);
+    SceneBuild saved = buildScene(scene);
+    int f = 0;
+    for (; f < 900 && (saved.world.profile().sleepingBodies == 0 || saved.world.awakeCount() == 0);
+         ++f)
+        saved.world.step();
+    ASSERT_GT(saved.world.profile().sleepingBodies, 0) << "nothing slept in " << f << " frames";
+    const Bytes state = saved.world.saveState();
+    SceneBuild restored = buildScene(scene);
+    restored.world.restoreState(state);
+    EXPECT_EQ(restored.world.awakeCount(), saved.world.awakeCount());
+    const std::vector<BodyId> ids = saved.world.bodies();
+    for (World* w : {&saved.world, &restored.world}) {
+        for (const BodyId id : ids) EXPECT_EQ(w->isAwake(id), saved.world.isAwake(id));
+    }
+    EXPECT_EQ(hashesOfNext(restored.world, 60), hashesOfNext(saved.world, 60));
+    for (World* w : {&saved.world, &restored.world})
+        for (const BodyId id : ids)
+            if (!w->isAwake(id)) {
+                w->applyImpulse(id, {0, 50, 0});
+                break;
+            }
+    EXPECT_EQ(hashesOfNext(restored.world, 30), hashesOfNext(saved.world, 30));
+    EXPECT_EQ(restored.world.awakeCount(), saved.world.awakeCount());
+}
+
 // The comparisons above would catch a snapshot that left out any of these: each, reset to what
 // a freshly built world holds after a restore, changes the very next frame.
 TEST(Snapshot, EveryPieceOfTheStateChangesTheNextFrame) {
@@ -434,10 +465,10 @@ TEST(Snapshot, RefusesBytesThatAreNotAState) {
                      "Release, x86-64); this is ffdaabb ");
     // A section this build does not know (state it could not restore), and one missing.
     b = state;
-    const Bytes extra = {'S', 'L', 'E', 'P', 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 7};
+    const Bytes extra = {'P', 'I', 'N', 'S', 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 7};
     b.insert(b.end(), extra.begin(), extra.end());
     reseal(b);
-    expectRefused(b, "state: holds a section this build does not know (SLEP)");
+    expectRefused(b, "state: holds a section this build does not know (PINS)");
     b = state;
     {
         const auto [at, length] = findSection(b, "VERT");
