@@ -465,10 +465,10 @@ TEST(Snapshot, RefusesBytesThatAreNotAState) {
                      "Release, x86-64); this is ffdaabb ");
     // A section this build does not know (state it could not restore), and one missing.
     b = state;
-    const Bytes extra = {'P', 'I', 'N', 'S', 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 7};
+    const Bytes extra = {'X', 'T', 'R', 'A', 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 7};
     b.insert(b.end(), extra.begin(), extra.end());
     reseal(b);
-    expectRefused(b, "state: holds a section this build does not know (PINS)");
+    expectRefused(b, "state: holds a section this build does not know (XTRA)");
     b = state;
     {
         const auto [at, length] = findSection(b, "VERT");
