@@ -88,7 +88,10 @@ PinId addPin(WorldData& w, Pin pin) {
         s.slots.push_back({});
     }
     pin.slot = slot;
-    pin.start = pin.followed = pin.previous = pin.target;
+    // The pin starts where its point is and goes to its target at maxSpeed at most, like a
+    // target moved there: a point pinned far from its target is not yanked there at once.
+    const detail::BodyRecord& r = bodyOf(w, pin.body);
+    pin.start = pin.followed = pin.previous = pinPointOf(pin, w.x, r.firstParticle);
     s.slots[slot].dense = uint32_t(s.list.size());
     s.list.push_back(pin);
     return {slot, s.slots[slot].generation};
