@@ -50,6 +50,7 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   "$prefix/examples-build/drop_three"
   "$prefix/examples-build/own_threads"
   "$prefix/examples-build/save_restore"
+  "$prefix/examples-build/pins"
   # The core alone: its package component finds the threading library and nothing else, and
   # its program links nothing of the content's.
   cmake -S examples/core_only -B "$prefix/core-only-build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
@@ -68,6 +69,7 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   "build/$1/bin/ffdaabb" mesh-info --generate teapot --json >/dev/null
   "build/$1/bin/ffdaabb" run --scene examples/mixed.json --frames 30 --quiet
   "build/$1/bin/ffdaabb" run --scene examples/one_spot.json --frames 10 --quiet
+  "build/$1/bin/ffdaabb" run --scene examples/pinned.json --frames 60 --quiet
   echo "examples: built against the installed package and ran (the core-only one linking the core and the threading library alone)"
 }
 

@@ -23,7 +23,14 @@
 //                       "friction": 0.5, "restitution": 0, "contact_rigidity": 0.5 } } ],
 //     "layout": { "origin": [0,1,0], "columns": [5,5], "spacing": 1.2, "jitter": 0.1,
 //                 "random_rotation": true, "velocity": [0,0,0], "velocity_jitter": 0,
-//                 "seed": 1 }
+//                 "seed": 1 },
+//     "pins": [ {                                  (World::pinParticle and the like)
+//         "object": 0,                             (required: the body, in the order made)
+//         "particle": 3 | "vertex": 12 | "point": [0,2.5,0],  (exactly one; point: where the
+//                                                  body is as placed, world coordinates)
+//         "target": [0,2.5,0],                     (default: where the pinned point starts)
+//         "stiffness": "hard" | 5000,              (N/m)
+//         "rigidity": 1, "swing_damping": 0.5, "max_speed": 10 } ]
 //   }
 // The layout stacks the objects in layers of columns[0] x columns[1] cells of `spacing` metres
 // (centred on origin in x and z, rising from origin.y), in the order of `objects`, each cell
@@ -58,6 +65,17 @@ struct SceneLayout {
     uint32_t seed = 1;
 };
 
+/// A pin of a scene (its "pins"): which body, which of its points, where and how held.
+struct ScenePin {
+    int object = 0; ///< the body's index in the order the scene makes them
+    enum class At : uint8_t { Particle, Vertex, Point } at = At::Point;
+    uint32_t index = 0; ///< the particle or vertex
+    Vec3 point;         ///< At::Point: world coordinates, where the body is as placed
+    bool hasTarget = false;
+    Vec3 target;
+    PinSettings settings;
+};
+
 struct Scene {
     std::string name;
     std::string description;
@@ -65,6 +83,7 @@ struct Scene {
     WorldSettings world;
     std::vector<SceneObject> objects;
     SceneLayout layout;
+    std::vector<ScenePin> pins;
 
     int objectCount() const;
 };
@@ -90,6 +109,7 @@ struct SceneBuild {
     std::vector<BodyId> bodies;
     size_t vertices = 0, triangles = 0, cells = 0, particles = 0, nodes = 0; ///< totals
     double buildMilliseconds = 0;
+    std::vector<PinId> pins; ///< the scene's pins, in its order
 };
 
 /// The mesh of the index-th object of entry `object` (letters cycle), normalised to its size.

@@ -5,9 +5,11 @@
 //
 // Controls: space play/pause, N (or the Step button) one frame, R restart (a fresh world from
 // the factory), M toggles enhanced/previous collisions, 1-4 toggle the overlays (spheres,
-// boxes, lattice, contacts), F reframes the camera, Esc closes. Mouse: left-drag on a body pulls
-// it (a spring force on its particle nearest the grabbed point, towards the cursor ray), left-
-// or right-drag elsewhere orbits, middle-drag or shift+drag pans, the wheel zooms.
+// boxes, lattice, contacts), F reframes the camera, P switches what a drag does, Esc closes.
+// Mouse: left-drag on a body pins the grabbed point (World::pinPoint, a hard pin) and moves the
+// pin's target along the cursor ray at the grabbed depth, releasing unpins (after P: a spring
+// force on its particle nearest the grabbed point instead), left- or right-drag elsewhere
+// orbits, middle-drag or shift+drag pans, the wheel zooms.
 //
 // Scripted mode (ViewerSettings::frames > 0) runs that many frames without waiting for vsync,
 // saves the window (UI included) to ViewerSettings::screenshot when set, and closes: what
@@ -87,8 +89,9 @@ public:
     /// The window's size in screen coordinates, which grab positions and the camera refer to.
     void windowSize(int& outWidth, int& outHeight) const;
     /// Grabs the body under window position (x, y) as a left-drag there would (pickBody);
-    /// false when there is none. While held, each step pulls the grabbed particle towards the
-    /// grab point; the mouse moves it in a real drag, moveGrab in a program.
+    /// false when there is none. While held, the grabbed point is pinned to the grab point (or,
+    /// after P, each step pulls the grabbed particle towards it); the mouse moves it in a real
+    /// drag, moveGrab in a program; release() unpins.
     bool grab(float x, float y);
     /// Moves the grab point to window position (x, y) at the depth it was grabbed at.
     void moveGrab(float x, float y);

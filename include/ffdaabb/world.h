@@ -149,6 +149,51 @@ struct ContactInfo {
     float impulse = 0; ///< normal impulse the response applied over the substep, N s
 };
 
+/// A handle to a pin (World::pinParticle and the like): slot index + generation, like BodyId,
+/// so a handle to a pin that was removed (unpin, or its body removed) is detected.
+struct PinId {
+    uint32_t index = UINT32_MAX;
+    uint32_t generation = 0;
+
+    bool isNull() const { return index == UINT32_MAX; }
+    friend bool operator==(const PinId&, const PinId&) = default;
+};
+
+/// How a pin holds its point (docs/ALGORITHM.md, "Pins").
+struct PinSettings {
+    /// Spring stiffness, N/m; 0: hard (the point is put on its target every substep, exactly up
+    /// to what the contacts projected after it move it). A soft pin is an implicit spring
+    /// (compliance 1/stiffness, XPBD), so its behaviour does not depend on the substep: a body
+    /// of mass m hangs m g / stiffness below its target.
+    float stiffness = 0.0f;
+    /// Share, [0, 1], of each correction made through the body's rigid motion (translation and
+    /// rotation of all its particles about its centre of mass) before the rest is made through
+    /// the point's cell's 8 particles. 1: the body follows the pin as a whole and deforms only
+    /// by its own dynamics (no tearing when dragged fast); 0: the pin pulls the point's cell
+    /// alone and the body's stiffness drags the rest after it (a soft body sags and stretches
+    /// under the pin).
+    float rigidity = 1.0f;
+    /// Rate (1/s) at which the body's motion relative to the pin's target is damped: its
+    /// rotation about the target (a pendulum's friction at its pivot) and, for a soft pin, its
+    /// bounce on the spring. 0: it swings on, losing only what the projection loses.
+    float swingDamping = 0.5f;
+    /// Speed (m/s) at which the pin follows its target at most; 0: at any speed. A target moved
+    /// faster, or made to jump, is followed at this speed: the point lags behind it instead of
+    /// whipping the body around (docs/LIMITS.md, "Pins", for the strain it bounds).
+    float maxSpeed = 10.0f;
+};
+
+/// A pin as it is now (World::pin).
+struct PinInfo {
+    BodyId body;
+    Vec3 target;   ///< where the pin holds its point, as last set, m
+    Vec3 point;    ///< the pinned point of the body now, m
+    Vec3 followed; ///< where the pin held its point in the last substep (maxSpeed), m
+    Vec3 force;    ///< mean force the pin exerted on the body over the last step, N
+    float lag = 0; ///< |point - target|, m
+    PinSettings settings;
+};
+
 namespace detail {
 struct WorldAccess;
 }
@@ -220,6 +265,32 @@ public:
     /// world's own. The results are bit-identical either way (ffdaabb/tasks.h).
     void setTaskSystem(std::shared_ptr<TaskSystem> tasks);
     const std::shared_ptr<TaskSystem>& taskSystem() const;
+
+    /// Pins (docs/ALGORITHM.md, "Pins"): an embedded point of a body held at a target, hard or
+    /// with a stiffness, projected every substep after the position update and before the
+    /// contacts. The point is a lattice particle, a mesh vertex, a point of the rest mesh or a
+    /// point of the body where it is now, each as the trilinear blend of its cell's particles.
+    /// InputError for a stale body, an index out of range, a non-finite vector or a setting
+    /// out of range. A body's pins go when it is removed.
+    PinId pinParticle(BodyId body, uint32_t particle, Vec3 target, const PinSettings& s = {});
+    PinId pinVertex(BodyId body, uint32_t vertex, Vec3 target, const PinSettings& s = {});
+    /// `restPoint` in the mesh's own coordinates (those addBody was given), held at `target`.
+    PinId pinRestPoint(BodyId body, Vec3 restPoint, Vec3 target, const PinSettings& s = {});
+    /// The body's point now at `point` (the nearest point of its lattice when outside it), held
+    /// where it is.
+    PinId pinPoint(BodyId body, Vec3 point, const PinSettings& s = {});
+    /// Moves the pin's target: over the next step() the target goes from where it was to here
+    /// in equal parts per substep. InputError for a stale pin or a non-finite target.
+    void setPinTarget(PinId pin, Vec3 target);
+    /// Changes how the pin holds (InputError for a stale pin or a setting out of range).
+    void setPinSettings(PinId pin, const PinSettings& s);
+    /// Removes a pin; false for a stale or null handle.
+    bool unpin(PinId pin);
+    bool isValid(PinId pin) const;
+    /// The pin now (InputError for a stale pin).
+    PinInfo pin(PinId pin) const;
+    /// Handles of all pins, in the order they were made (the order they are projected).
+    std::vector<PinId> pins() const;
 
     /// Object contacts, then floor contacts, of the last substep of the last step() (empty before
     /// the first step and in CollisionMode::None for objects), in a canonical order. Clears `out`.
@@ -299,5 +370,6 @@ const SettingRange* findSettingRange(std::string_view name);
 /// Throws InputError (naming the field) when a setting is out of range.
 void validate(const WorldSettings& settings);
 void validate(const BodySettings& settings);
+void validate(const PinSettings& settings);
 
 } // namespace ffd

@@ -194,7 +194,8 @@ void Viewer::moveGrab(float x, float y) {
 
 void Viewer::release() {
     Impl& v = *impl_;
-    if (v.drag == Impl::Drag::Body) v.drag = Impl::Drag::None, v.draw.highlight = BodyId{};
+    v.releaseBody();
+    if (v.drag == Impl::Drag::Body) v.drag = Impl::Drag::None;
     v.scriptedGrab = false;
 }
 

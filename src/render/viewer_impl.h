@@ -85,6 +85,10 @@ struct Viewer::Impl {
     uint32_t dragParticle = 0;
     float dragDepth = 0;
     Vec3 dragTarget;
+    // Dragging pins the picked point and moves the pin's target with the mouse (releasing
+    // unpins); off: the older spring force on the nearest particle.
+    bool dragPins = true;
+    PinId dragPin;
     bool scriptedGrab = false;    // grab() rather than the mouse: the cursor does not move it
     std::vector<int> keys;        // pressed since the last frame
     std::vector<int> buttonsDown; // mouse buttons pressed since the last frame
@@ -137,6 +141,7 @@ struct Viewer::Impl {
         history.clear();
         drag = drag == Drag::Body ? Drag::None : drag;
         draw.highlight = BodyId{};
+        dragPin = PinId{}; // the old world's
     }
 
     // Grabs the body under window position (x, y).
@@ -149,7 +154,17 @@ struct Viewer::Impl {
         dragDepth = p.distance;
         dragTarget = p.point;
         draw.highlight = p.body;
+        if (world->isValid(dragPin)) world->unpin(dragPin);
+        // A hard pin, followed at 10 m/s at most: the body comes along as a whole.
+        dragPin = dragPins ? world->pinPoint(p.body, p.point) : PinId{};
         return true;
+    }
+
+    // Ends a drag of a body: its pin goes.
+    void releaseBody() {
+        if (drag == Drag::Body) draw.highlight = BodyId{};
+        if (world->isValid(dragPin)) world->unpin(dragPin);
+        dragPin = PinId{};
     }
 
     // A spring-damper force on the grabbed particle towards the grab point. One particle carries
@@ -160,6 +175,10 @@ struct Viewer::Impl {
     // the body swings nor the particle jitters.
     void applyDragForce() {
         if (drag != Drag::Body || !world->isValid(dragBody)) return;
+        if (world->isValid(dragPin)) {
+            world->setPinTarget(dragPin, dragTarget);
+            return;
+        }
         const float particleMass = world->particleMass(dragBody, dragParticle);
         const float bodyMass = world->info(dragBody).mass;
         const float dt = world->settings().frameStep / float(world->settings().substeps);
@@ -243,8 +262,11 @@ struct Viewer::Impl {
             const auto start = Clock::now();
             draw.lines.clear();
             if (drag == Drag::Body && world->isValid(dragBody))
-                draw.lines.push_back(
-                    {world->particles(dragBody)[dragParticle], dragTarget, {1, 1, 1}});
+                draw.lines.push_back({world->isValid(dragPin)
+                                          ? world->pin(dragPin).point
+                                          : world->particles(dragBody)[dragParticle],
+                                      dragTarget,
+                                      {1, 1, 1}});
             renderer->draw(*world, camera(), draw, fbw, fbh);
             renderer->present(fbw, fbh);
             renderMs = msSince(start);

@@ -42,6 +42,9 @@ void Viewer::Impl::handleInput() {
             case GLFW_KEY_F:
                 frameCamera();
                 break;
+            case GLFW_KEY_P:
+                dragPins = !dragPins;
+                break;
             case GLFW_KEY_ESCAPE:
                 glfwSetWindowShouldClose(window, GLFW_TRUE);
                 break;
@@ -78,7 +81,7 @@ void Viewer::Impl::handleInput() {
     if (released && glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) != GLFW_PRESS &&
         glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) != GLFW_PRESS &&
         glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) != GLFW_PRESS) {
-        if (drag == Drag::Body) draw.highlight = BodyId{};
+        releaseBody();
         drag = Drag::None;
     }
 
@@ -175,6 +178,7 @@ void Viewer::Impl::ui() {
     ImGui::Checkbox("contacts", &draw.overlays.contacts);
     ImGui::SameLine();
     ImGui::Checkbox("sleeping", &draw.overlays.sleeping);
+    ImGui::Checkbox("drag pins (P)", &dragPins);
     ImGui::Checkbox("meshes", &draw.meshes);
     ImGui::SameLine();
     ImGui::Checkbox("floor", &draw.floor);
@@ -218,7 +222,8 @@ void Viewer::Impl::ui() {
     if (ImGui::CollapsingHeader("Controls")) {
         ImGui::TextUnformatted("space play/pause   N step   R restart\n"
                                "M enhanced/previous   1-4 overlays   F frame\n"
-                               "left-drag a body: pull it\n"
+                               "left-drag a body: pin it and move the pin\n"
+                               "  (P: pull it by a spring instead)\n"
                                "left/right-drag: orbit   middle or shift: pan\n"
                                "wheel: zoom   Esc: quit");
     }

@@ -327,6 +327,40 @@ void readLayout(Fields f, SceneLayout& l) {
     f.finish();
 }
 
+ScenePin readPin(Fields f, long long objects) {
+    ScenePin pin;
+    if (!f.find("object")) f.fail(f.at("object"), "missing (expected the index of a body)");
+    f.integer("object", pin.object, 0, long(std::max<long long>(objects - 1, 0)),
+              objects > 1
+                  ? ("0.." + std::to_string(objects - 1) + ", the scene's objects in order").c_str()
+                  : "0, the scene's only object");
+    int given = 0, index = 0;
+    if (f.integer("particle", index, 0, 2147483647, "a particle index, >= 0"))
+        pin.at = ScenePin::At::Particle, pin.index = uint32_t(index), ++given;
+    if (f.integer("vertex", index, 0, 2147483647, "a vertex index, >= 0"))
+        pin.at = ScenePin::At::Vertex, pin.index = uint32_t(index), ++given;
+    if (f.vec3("point", pin.point, 1e6)) pin.at = ScenePin::At::Point, ++given;
+    if (given != 1)
+        f.fail(f.path(), given == 0 ? "no point to pin (expected one of particle, vertex, point)"
+                                    : "give only one of particle, vertex, point");
+    pin.hasTarget = f.vec3("target", pin.target, 1e6);
+    if (const Json* k = f.find("stiffness")) {
+        if (k->is_string() && k->get<std::string>() == "hard")
+            pin.settings.stiffness = 0;
+        else if (!k->is_number() || !(k->get<double>() > 0 && k->get<double>() <= 1e12))
+            f.fail(f.at("stiffness"), "value " + shortValue(*k) +
+                                          " is out of range (expected \"hard\" or N/m, "
+                                          "0 < stiffness <= 1e12)");
+        else
+            pin.settings.stiffness = float(k->get<double>());
+    }
+    f.number("rigidity", pin.settings.rigidity, 0.0, 1.0, "0..1");
+    f.number("swing_damping", pin.settings.swingDamping, 0.0, 1000.0, "1/s, 0..1000");
+    f.number("max_speed", pin.settings.maxSpeed, 0.0, 1e6, "m/s, 0 (any) or 0 < v <= 1e6");
+    f.finish();
+    return pin;
+}
+
 // Deterministic on every platform (std distributions are not): splitmix64.
 struct Random {
     uint64_t state;
@@ -400,6 +434,13 @@ Scene parseScene(const std::string& text, const std::filesystem::path& file) {
                        std::to_string(kMaxSceneObjects) + " in all)");
     }
     if (const Json* l = f.find("layout")) readLayout(Fields(*l, "layout", file), scene.layout);
+    if (const Json* pins = f.find("pins")) {
+        if (!pins->is_array())
+            f.fail("pins", "expected an array of pins, got " + shortValue(*pins));
+        for (size_t i = 0; i < pins->size(); ++i)
+            scene.pins.push_back(
+                readPin(Fields((*pins)[i], "pins[" + std::to_string(i) + "]", file), total));
+    }
     f.finish();
     validate(scene.world);
     for (const SceneObject& o : scene.objects) validate(o.body);
@@ -501,7 +542,7 @@ TriangleMesh sceneObjectMesh(const SceneObject& o, int index) {
 
 SceneBuild buildScene(const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
-    SceneBuild out{World(scene.world), {}, 0, 0, 0, 0, 0, 0};
+    SceneBuild out{World(scene.world), {}, 0, 0, 0, 0, 0, 0, {}};
     // Each distinct mesh is made once; the World shares lattices between identical ones.
     std::map<std::string, TriangleMesh> meshes;
     auto meshFor = [&](const SceneObject& o, int index) -> const TriangleMesh& {
@@ -574,6 +615,43 @@ SceneBuild buildScene(const Scene& scene) {
             out.particles += info.particles;
             out.nodes += info.surfaceCells * 8;
         }
+    }
+    for (size_t n = 0; n < scene.pins.size(); ++n) {
+        const ScenePin& pin = scene.pins[n];
+        const auto pinError = [&](const char* field, const std::string& problem) {
+            return InputError(scene.source.string(),
+                              "pins[" + std::to_string(n) + "]." + field + ": " + problem);
+        };
+        if (pin.object < 0 || size_t(pin.object) >= out.bodies.size())
+            throw pinError("object", "value " + std::to_string(pin.object) +
+                                         " is out of range (the scene holds " +
+                                         std::to_string(out.bodies.size()) + " objects)");
+        const BodyId body = out.bodies[size_t(pin.object)];
+        const BodyInfo info = out.world.info(body);
+        PinId id;
+        if (pin.at == ScenePin::At::Particle) {
+            if (pin.index >= info.particles)
+                throw pinError("particle", "value " + std::to_string(pin.index) +
+                                               " is out of range (object " +
+                                               std::to_string(pin.object) + " has " +
+                                               std::to_string(info.particles) + " particles)");
+            const Vec3 at = out.world.particles(body)[pin.index];
+            id = out.world.pinParticle(body, pin.index, pin.hasTarget ? pin.target : at,
+                                       pin.settings);
+        } else if (pin.at == ScenePin::At::Vertex) {
+            if (pin.index >= info.vertices)
+                throw pinError("vertex", "value " + std::to_string(pin.index) +
+                                             " is out of range (object " +
+                                             std::to_string(pin.object) + " has " +
+                                             std::to_string(info.vertices) + " vertices)");
+            const Vec3 at = out.world.vertices(body)[pin.index];
+            id =
+                out.world.pinVertex(body, pin.index, pin.hasTarget ? pin.target : at, pin.settings);
+        } else {
+            id = out.world.pinPoint(body, pin.point, pin.settings);
+            if (pin.hasTarget) out.world.setPinTarget(id, pin.target);
+        }
+        out.pins.push_back(id);
     }
     out.buildMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -34,11 +34,13 @@
 //   CLAM  the box pairs' claims of the last substep (object_contacts.cpp: they bound the next)
 //   OVLP  the overlap recovery's remembered pairs (overlap_recovery.h)
 //   SLEP  sleeping (world/sleeping.h): each body asleep or not, its island and quiet time
+//   PINS  the pins (world/pins.h): handles, points, targets, settings, last impulse and force
 //
 // A restore reads and checks every section into a staging copy before it changes anything,
 // then swaps it in: a refused state leaves the world as it was.
 #include "collision/overlap_recovery.h"
 #include "ffdaabb/error.h"
+#include "world/pins.h"
 #include "world/settings_table.h"
 #include "world/sleeping.h"
 #include "world/world_data.h"
@@ -503,6 +505,7 @@ struct Staged {
     };
     std::vector<Sleep> sleep;
     uint32_t nextIsland = 1;
+    detail::PinState pins;
     struct Collision {
         bool placed = false;
         Aabb bounds;
@@ -777,6 +780,79 @@ void readSleep(Reader& in, const WorldData& w, Staged& st) {
     in.end();
 }
 
+// Pins (world/pins.h): their handles, points, targets, settings and what they did last.
+void writePins(const WorldData& w, Writer& out) {
+    const detail::PinState& p = w.pins;
+    out.u32(uint32_t(p.slots.size()));
+    for (const detail::PinSlot& s : p.slots) out.u32(s.generation), out.u32(s.dense);
+    out.u32(uint32_t(p.freeSlots.size()));
+    for (const uint32_t s : p.freeSlots) out.u32(s);
+    out.u32(uint32_t(p.list.size()));
+    for (const detail::Pin& pin : p.list) {
+        out.u32(pin.slot);
+        out.u32(pin.body.index);
+        out.u32(pin.body.generation);
+        for (int k = 0; k < 8; ++k) out.u32(pin.particle[k]), out.f32(pin.weight[k]);
+        for (const Vec3 v :
+             {pin.target, pin.start, pin.followed, pin.previous, pin.impulse, pin.force})
+            out.vec3(v);
+        const PinSettings& s = pin.settings;
+        for (const float f : {s.stiffness, s.rigidity, s.swingDamping, s.maxSpeed}) out.f32(f);
+    }
+}
+
+void readPins(Reader& in, const WorldData& w, Staged& st) {
+    detail::PinState& p = st.pins;
+    const uint32_t slots = in.u32();
+    in.need(slots, 8);
+    p.slots.resize(slots);
+    for (detail::PinSlot& s : p.slots) s.generation = in.u32(), s.dense = in.u32();
+    const uint32_t freeCount = in.u32();
+    in.need(freeCount, 4);
+    p.freeSlots.resize(freeCount);
+    for (uint32_t& s : p.freeSlots) {
+        s = in.u32();
+        if (s >= slots || p.slots[s].dense != UINT32_MAX)
+            in.malformed("lists a pin slot in use as free");
+    }
+    const uint32_t count = in.u32();
+    in.need(count, 4);
+    p.list.resize(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        detail::Pin& pin = p.list[i];
+        pin.slot = in.u32();
+        pin.body.index = in.u32();
+        pin.body.generation = in.u32();
+        if (pin.slot >= slots || p.slots[pin.slot].dense != i)
+            in.malformed("holds pin " + std::to_string(i) + " in a slot that is not its own");
+        // Its body, among the bodies as the state has them (the slots read before).
+        const bool bodyValid = pin.body.index < st.slots.size() &&
+                               st.slots[pin.body.index].dense != UINT32_MAX &&
+                               st.slots[pin.body.index].generation == pin.body.generation;
+        if (!bodyValid) in.malformed("holds pin " + std::to_string(i) + " of no body");
+        const uint32_t particles = w.bodies[st.slots[pin.body.index].dense].particleCount;
+        for (int k = 0; k < 8; ++k) {
+            pin.particle[k] = in.u32();
+            pin.weight[k] = in.f32();
+            if (pin.particle[k] >= particles || !std::isfinite(pin.weight[k]))
+                in.malformed("holds pin " + std::to_string(i) + " of a point not on its body");
+        }
+        for (Vec3* v :
+             {&pin.target, &pin.start, &pin.followed, &pin.previous, &pin.impulse, &pin.force}) {
+            *v = in.vec3();
+            if (!finite(*v)) in.malformed("holds a pin with a non-finite target or force");
+        }
+        PinSettings& s = pin.settings;
+        for (float* f : {&s.stiffness, &s.rigidity, &s.swingDamping, &s.maxSpeed}) *f = in.f32();
+        try {
+            validate(s);
+        } catch (const InputError&) {
+            in.malformed("holds pin " + std::to_string(i) + " with settings out of range");
+        }
+    }
+    in.end();
+}
+
 struct Section {
     uint32_t tag;
     uint32_t version;
@@ -798,6 +874,7 @@ constexpr Section kSections[] = {
     {tagOf("CLAM"), 1, writeClaims, readClaims},
     {tagOf("OVLP"), 1, writeOverlaps, readOverlaps},
     {tagOf("SLEP"), 1, writeSleep, readSleep},
+    {tagOf("PINS"), 1, writePins, readPins},
 };
 
 // Writes the staged state into the world (nothing here can fail).
@@ -845,6 +922,9 @@ void apply(WorldData& w, Staged& st) {
     cs.all.clear(); // the last step's contacts are not part of the state
     cs.objectCount = 0;
     w.nextIsland = st.nextIsland;
+    w.pins.list.swap(st.pins.list);
+    w.pins.slots.swap(st.pins.slots);
+    w.pins.freeSlots.swap(st.pins.freeSlots);
     detail::refreshAwake(w); // the awake list, contact inverse masses, batches, flags
     w.profile = Profile{};
 }

@@ -271,6 +271,7 @@ bool World::removeBody(BodyId id) {
     WorldData& w = *state_;
     const BodyRecord* found = w.find(id);
     if (!found) return false;
+    detail::forgetPins(w, id);
     const uint32_t dense = w.slots[id.index].dense;
     detail::wakeIsland(w, dense); // the bodies it held up
     const BodyRecord r = *found;
@@ -422,7 +423,10 @@ void World::step() {
             prof.wholePairs = int(w.collision.wholePairs.size());
         });
         timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(view, dt); });
-        timed(prof, Stage::PositionUpdate, [&] { detail::positionUpdateStage(w, dt); });
+        timed(prof, Stage::PositionUpdate, [&] {
+            detail::positionUpdateStage(w, dt);
+            detail::pinStage(w, dt, sub, w.settings.substeps); // nothing without pins
+        });
         timed(prof, Stage::ResponseAfterMove,
               [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
     }

@@ -8,6 +8,7 @@
 #include "dynamics/shape_matching.h"
 #include "ffdaabb/world.h"
 #include "util/workers.h"
+#include "world/pins.h"
 
 #include <map>
 #include <memory>
@@ -102,6 +103,7 @@ struct WorldData {
     float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
     Workers workers;                    ///< the world's own threads
     std::vector<ThreadScratch> scratch; ///< one per worker
+    PinState pins;                      ///< world/pins.h
 
     const BodyRecord* find(BodyId id) const {
         if (id.index >= slots.size()) return nullptr;
