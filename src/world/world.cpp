@@ -303,6 +303,7 @@ bool World::removeBody(BodyId id) {
     w.collision.bodies.erase(w.collision.bodies.begin() + dense);
     detail::syncCollisionBodies(w);
     detail::rebuildDynamicsBatches(w);
+    detail::meshesChanged(w.queries);
     return true;
 }
 
@@ -413,7 +414,9 @@ void World::step() {
         timed(prof, Stage::PositionUpdate, [&] { detail::positionUpdateStage(w, dt); });
         timed(prof, Stage::ResponseAfterMove,
               [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
+        detail::tallyContacts(w);
     }
+    detail::finishContactTally(w);
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
     if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
@@ -421,6 +424,7 @@ void World::step() {
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
+    detail::meshesChanged(w.queries);
 }
 
 std::span<const Vec3> World::vertices(BodyId id) const {
@@ -576,6 +580,7 @@ void World::updateMesh(BodyId id) {
     deformVertices(r.model->lattice,
                    std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
                    std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
+    detail::meshesChanged(w.queries);
 }
 
 const WorldSettings& World::settings() const {

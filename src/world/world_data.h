@@ -8,6 +8,7 @@
 #include "dynamics/shape_matching.h"
 #include "ffdaabb/world.h"
 #include "util/workers.h"
+#include "world/query_state.h"
 
 #include <map>
 #include <memory>
@@ -91,6 +92,8 @@ struct WorldData {
     float substep = 1.0f / 120.0f;      ///< dt of the substep in progress
     Workers workers;                    ///< the world's own threads
     std::vector<ThreadScratch> scratch; ///< one per worker
+    mutable QueryCache queries;         ///< the geometric queries' caches (queries.cpp)
+    ContactTally contactTally;          ///< the step's contact pairs and events
 
     const BodyRecord* find(BodyId id) const {
         if (id.index >= slots.size()) return nullptr;
