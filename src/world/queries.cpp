@@ -424,55 +424,41 @@ bool triangleMeetsBox(Vec3 centre, Vec3 half, Vec3 a, Vec3 b, Vec3 c) {
     return true;
 }
 
-// A direction with no simple relation to the axes or to generated meshes' symmetries: a ray
-// along it meets an edge or a vertex exactly with probability zero.
-constexpr Vec3 kWindingDirection{0.5257311f, 0.6935787f, 0.4925049f};
+// Directions with no simple relation to the axes or to generated meshes' symmetries: a ray
+// along one meets an edge or a vertex exactly with probability zero.
+constexpr Vec3 kWindingDirections[3] = {{0.5257311f, 0.6935787f, 0.4925049f},
+                                        {-0.7071068f, 0.2588190f, 0.6580326f},
+                                        {0.1736482f, -0.5735764f, -0.8003916f}};
 
-// The mesh's winding number at p, counted along a ray: +1 for each crossing that leaves the
-// mesh (by the triangles' winding), -1 for each that enters.
-int windingAlongRay(const BodyView& body, Vec3 p) {
-    const Ray r = makeRay(p, kWindingDirection, INFINITY);
+// The mesh's winding number at p counted along a ray: +1 for each crossing that leaves the
+// mesh (by the triangles' winding), -1 for each that enters. `culled`: through the hierarchy,
+// else testing every triangle.
+int windingAlongRay(const BodyView& body, Vec3 p, Vec3 direction, bool culled) {
+    const Ray r = makeRay(p, direction, INFINITY);
     int winding = 0;
-    const float tMax = INFINITY;
-    traverse(body, r, tMax,
-             [&](uint32_t, const TriangleHit& h) { winding += h.backFacing ? 1 : -1; });
+    if (culled) {
+        const float tMax = INFINITY;
+        traverse(body, r, tMax,
+                 [&](uint32_t, const TriangleHit& h) { winding += h.backFacing ? 1 : -1; });
+        return winding;
+    }
+    for (const Triangle& t : body.triangles) {
+        TriangleHit h;
+        if (hitTriangle(r, body.vertices[t[0]], body.vertices[t[1]], body.vertices[t[2]], INFINITY,
+                        h))
+            winding += h.backFacing ? 1 : -1;
+    }
     return winding;
 }
 
-// The generalised winding number at p (Jacobson, Kavan, Sorkine-Hornung, "Robust
-// Inside-Outside Segmentation using Generalized Winding Numbers", 2013): the triangles' solid
-// angles seen from p (Van Oosterom, Strackee 1983) over 4 pi, in double. About 1 inside and 0
-// outside a closed mesh, and a smooth, sensible measure for an open one, where counting a ray's
-// crossings depends on the ray.
-double solidAngleWinding(std::span<const Vec3> v, std::span<const Triangle> triangles, Vec3 p) {
-    double sum = 0;
-    for (const Triangle& t : triangles) {
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-            a[k] = double(v[t[0]][k]) - double(p[k]);
-            b[k] = double(v[t[1]][k]) - double(p[k]);
-            c[k] = double(v[t[2]][k]) - double(p[k]);
-        }
-        auto norm = [](const double* x) {
-            return std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-        };
-        auto dotd = [](const double* x, const double* y) {
-            return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-        };
-        const double la = norm(a), lb = norm(b), lc = norm(c);
-        const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                           a[2] * (b[0] * c[1] - b[1] * c[0]);
-        const double den = la * lb * lc + dotd(a, b) * lc + dotd(b, c) * la + dotd(c, a) * lb;
-        sum += 2 * std::atan2(det, den);
-    }
-    return sum / (4 * 3.14159265358979323846);
-}
-
-// Whether p lies inside the body's mesh: by a ray's crossings for a closed mesh, by the
-// generalised winding number (over 1/2) for an open one.
-bool insideMesh(const BodyView& body, Vec3 p) {
-    if (body.bvh->closed) return windingAlongRay(body, p) != 0;
-    return std::fabs(solidAngleWinding(body.vertices, body.triangles, p)) > 0.5;
+// Whether p lies inside the body's mesh: a ray's crossings decide for a closed mesh (exactly);
+// for an open one, where the count depends on the ray (it may leave through a hole), two rays
+// of three must say inside.
+bool insideMesh(const BodyView& body, Vec3 p, bool culled = true) {
+    if (body.bvh->closed) return windingAlongRay(body, p, kWindingDirections[0], culled) != 0;
+    int votes = 0;
+    for (const Vec3& d : kWindingDirections) votes += windingAlongRay(body, p, d, culled) != 0;
+    return votes >= 2;
 }
 
 bool meshMeetsBox(const BodyView& body, const Aabb& box) {
@@ -601,17 +587,7 @@ bool bodyOverlapsEveryTriangle(const World& world, BodyId body, const Aabb& box)
     const Vec3 centre = box.centre(), half = box.extent() * 0.5f;
     for (const Triangle& t : rec.model->mesh.triangles)
         if (triangleMeetsBox(centre, half, v[t[0]], v[t[1]], v[t[2]])) return true;
-    const BodyView view = bodyView(w, w.slots[body.index].dense);
-    if (!view.bvh->closed)
-        return std::fabs(solidAngleWinding(view.vertices, view.triangles, centre)) > 0.5;
-    const Ray r = makeRay(centre, kWindingDirection, INFINITY);
-    int winding = 0;
-    for (const Triangle& t : view.triangles) {
-        TriangleHit h;
-        if (hitTriangle(r, v[t[0]], v[t[1]], v[t[2]], INFINITY, h))
-            winding += h.backFacing ? 1 : -1;
-    }
-    return winding != 0;
+    return insideMesh(bodyView(w, w.slots[body.index].dense), centre, false);
 }
 
 } // namespace detail
