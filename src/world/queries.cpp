@@ -8,7 +8,9 @@
 // time a query reaches the body in an epoch. A lattice's cell boxes would be a cheaper first cut
 // inside a body, but World::boxNodes come from the last substep's node update, before its
 // position update and response moved the particles, so they need not hold the vertices the
-// mesh update made from the final particles; the queries look at the vertices alone.
+// mesh update made from the final particles (after 120 frames of the alphabets, 2.1 % of the
+// vertices lie outside their own cell's box, by up to 7 cm); the queries look at the vertices
+// alone.
 //
 // Every box is padded by a few ulps of its coordinates, so that rounding in the slab and overlap
 // tests never culls a triangle the exact test would find: a query gives what testing every
