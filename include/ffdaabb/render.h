@@ -91,9 +91,12 @@ struct Pick {
     uint32_t particle = 0; ///< the body's lattice particle nearest the hit point
     Vec3 point;            ///< where the ray meets the deformed mesh
     float distance = 0;    ///< from the eye to `point`
+    uint32_t triangle = 0; ///< the triangle hit (World::triangles(body)), ffd::raycast's
+    Vec3 barycentric;      ///< the point's weights of the triangle's corners
+    Vec3 normal;           ///< the triangle's unit normal
 };
 /// The body whose deformed mesh the ray through pixel position (x, y) meets first
-/// (projectToPixel's convention), for picking and dragging.
+/// (projectToPixel's convention), for picking and dragging: ffd::raycast (ffdaabb/queries.h).
 Pick pickBody(const World& world, const Camera& camera, int width, int height, float x, float y);
 
 /// The overlays of the collision pipeline, all off by default.

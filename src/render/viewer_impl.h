@@ -5,6 +5,7 @@
 #include "ffdaabb/viewer.h"
 
 #include "ffdaabb/error.h"
+#include "ffdaabb/queries.h"
 #include "render/camera_math.h"
 #include "render/gl_drivers.h"
 
@@ -93,6 +94,10 @@ struct Viewer::Impl {
     std::vector<int> keys;        // pressed since the last frame
     std::vector<int> buttonsDown; // mouse buttons pressed since the last frame
     std::vector<int> buttonsUp;
+    // What lies under the cursor (a ray cast each frame): shown in the controls and outlined.
+    bool showHover = true;
+    Pick hover;
+    std::vector<BodyContact> hoverTouching;
 
     std::deque<Profile> history;
     double simulateMs = 0, renderMs = 0, frameMs = 16;
@@ -195,6 +200,29 @@ struct Viewer::Impl {
 
     void handleInput(); // keys and mouse (viewer_ui.cpp)
 
+    // The body under the cursor after the step, unless the cursor is over the controls or
+    // outside the window.
+    void updateHover() {
+        hover = Pick{};
+        if (!showHover || ImGui::GetIO().WantCaptureMouse ||
+            !glfwGetWindowAttrib(window, GLFW_HOVERED))
+            return;
+        double x = 0, y = 0;
+        glfwGetCursorPos(window, &x, &y);
+        hover = pickBody(*world, camera(), windowWidth(), windowHeight(), float(x), float(y));
+    }
+
+    // The hovered triangle's edges and its normal at the point, yellow.
+    void hoverLines() {
+        if (hover.body.isNull() || !world->isValid(hover.body)) return;
+        const auto v = world->vertices(hover.body);
+        const auto t = world->triangles(hover.body)[hover.triangle];
+        const Vec3 yellow{1.0f, 0.85f, 0.1f};
+        for (int k = 0; k < 3; ++k) draw.lines.push_back({v[t[k]], v[t[(k + 1) % 3]], yellow});
+        const float size = length(v[t[1]] - v[t[0]]) + length(v[t[2]] - v[t[0]]);
+        draw.lines.push_back({hover.point, hover.point + hover.normal * size, yellow});
+    }
+
     void stepWorld() {
         const auto start = Clock::now();
         for (int s = 0; s < std::max(settings.stepsPerFrame, 1); ++s) {
@@ -253,6 +281,7 @@ struct Viewer::Impl {
         }
         if (playing || stepRequested) stepWorld();
         stepRequested = false;
+        updateHover();
         if (settings.showUi) ui();
         ImGui::Render();
 
@@ -267,6 +296,7 @@ struct Viewer::Impl {
                                           : world->particles(dragBody)[dragParticle],
                                       dragTarget,
                                       {1, 1, 1}});
+            hoverLines();
             renderer->draw(*world, camera(), draw, fbw, fbh);
             renderer->present(fbw, fbh);
             renderMs = msSince(start);

@@ -218,6 +218,25 @@ void Viewer::Impl::ui() {
         ImGui::Text("placed overlapping %d   pushed apart whole %d", p.overlapPairs, p.wholePairs);
     ImGui::Text("deepest contact %.2f mm", double(p.maxContactDepth) * 1000);
     ImGui::Text("step %.2f ms   draw %.2f ms", simulateMs, renderMs);
+    ImGui::Checkbox("under the cursor", &showHover);
+    if (showHover && !hover.body.isNull() && world->isValid(hover.body)) {
+        // ffd::raycast's hit, and the body's contacts of the last step (ffdaabb/queries.h),
+        // each as its mean force over the step.
+        ImGui::Text("body %u   triangle %u   %.2f m away", hover.body.index, hover.triangle,
+                    double(hover.distance));
+        touchingBodies(*world, hover.body, hoverTouching);
+        const double step = world->settings().frameStep;
+        ImGui::Text("touches %zu in the last step%s", hoverTouching.size(),
+                    hoverTouching.empty() ? "" : ":");
+        for (size_t i = 0; i < hoverTouching.size() && i < 6; ++i) {
+            const BodyContact& c = hoverTouching[i];
+            if (c.other.isNull())
+                ImGui::Text("  floor      %8.1f N", double(c.normalImpulse) / step);
+            else
+                ImGui::Text("  body %-5u %8.1f N", c.other.index, double(c.normalImpulse) / step);
+        }
+        if (hoverTouching.size() > 6) ImGui::Text("  ... %zu more", hoverTouching.size() - 6);
+    }
     if (ImGui::Button("Save screenshot")) captureRequested = true, screenshotToFile = true;
     if (ImGui::CollapsingHeader("Controls")) {
         ImGui::TextUnformatted("space play/pause   N step   R restart\n"

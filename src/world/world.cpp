@@ -308,6 +308,7 @@ bool World::removeBody(BodyId id) {
     w.collision.bodies.erase(w.collision.bodies.begin() + dense);
     detail::syncCollisionBodies(w);
     detail::refreshAwake(w);
+    detail::meshesChanged(w.queries);
     return true;
 }
 
@@ -429,7 +430,9 @@ void World::step() {
         });
         timed(prof, Stage::ResponseAfterMove,
               [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
+        detail::tallyContacts(w);
     }
+    detail::finishContactTally(w);
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
     if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
@@ -439,6 +442,7 @@ void World::step() {
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
+    detail::meshesChanged(w.queries);
 }
 
 std::span<const Vec3> World::vertices(BodyId id) const {
@@ -600,6 +604,7 @@ void World::updateMesh(BodyId id) {
     deformVertices(r.model->lattice,
                    std::span<const Vec3>(w.x.data() + r.firstParticle, r.particleCount),
                    std::span<Vec3>(w.vertices.data() + r.firstVertex, r.vertexCount));
+    detail::meshesChanged(w.queries);
 }
 
 const WorldSettings& World::settings() const {

@@ -9,6 +9,7 @@
 #include "ffdaabb/world.h"
 #include "util/workers.h"
 #include "world/pins.h"
+#include "world/query_state.h"
 
 #include <map>
 #include <memory>
@@ -104,6 +105,8 @@ struct WorldData {
     Workers workers;                    ///< the world's own threads
     std::vector<ThreadScratch> scratch; ///< one per worker
     PinState pins;                      ///< world/pins.h
+    mutable QueryCache queries;         ///< the geometric queries' caches (queries.cpp)
+    ContactTally contactTally;          ///< the step's contact pairs and events
 
     const BodyRecord* find(BodyId id) const {
         if (id.index >= slots.size()) return nullptr;

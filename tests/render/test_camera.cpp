@@ -84,6 +84,13 @@ TEST(RenderCamera, PickFindsTheBodyUnderThePixel) {
         EXPECT_NEAR(length(p.point - centre), 1.0f, 0.05f);
         EXPECT_LT(p.distance, length(centre - c.eye));
         EXPECT_LT(length(world.particles(b)[p.particle] - p.point), world.info(b).cellSize * 1.0f);
+        // The triangle and the weights place the point on the deformed mesh, facing the eye.
+        const auto v = world.vertices(b);
+        const auto t = world.triangles(b)[p.triangle];
+        const Vec3 q =
+            v[t[0]] * p.barycentric.x + v[t[1]] * p.barycentric.y + v[t[2]] * p.barycentric.z;
+        EXPECT_LT(length(q - p.point), 1e-4f);
+        EXPECT_LT(dot(p.normal, p.point - c.eye), 0.0f);
     }
     EXPECT_TRUE(render::pickBody(world, c, w, h, 2, 2).body.isNull());
 }

@@ -2,6 +2,7 @@
 // together with what they touch, cost nothing while asleep, and wake when anything may disturb
 // them.
 #include "ffdaabb/error.h"
+#include "ffdaabb/queries.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
 
@@ -56,6 +57,24 @@ TEST(Sleeping, ABodyAtRestFallsAsleepAndThenCostsNothing) {
     EXPECT_EQ(p.floorContacts, 0);
     EXPECT_EQ(p.candidatePairs, 0);
     EXPECT_GE(world.centreOfMass(ball1).y, 0.3f); // resting on the floor, not in it
+}
+
+TEST(Sleeping, ASleeperKeepsTouchingWhatItRestsOn) {
+    // Falling asleep ends no contact: the pair of a sleeper and the floor goes on, with the
+    // impulse of its last awake step, and no end event comes until something moves.
+    World world;
+    const BodyId b = world.addBody(ball(), sphereAt({0, 0.8f, 0}));
+    ASSERT_LE(stepUntilAsleep(world, 300), 300);
+    for (int f = 0; f < 30; ++f) {
+        world.step();
+        EXPECT_TRUE(contactEvents(world).end.empty()) << "frame " << f;
+    }
+    std::vector<BodyContact> partners;
+    touchingBodies(world, b, partners);
+    ASSERT_EQ(partners.size(), 1u);
+    EXPECT_TRUE(partners[0].other.isNull());
+    const double weight = world.info(b).mass * 9.81 * world.settings().frameStep;
+    EXPECT_NEAR(partners[0].normalImpulse / weight, 1.0, 0.2);
 }
 
 TEST(Sleeping, ForcesImpulsesVelocitiesAndPosesWakeABody) {
