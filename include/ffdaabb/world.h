@@ -341,6 +341,7 @@ public:
     void setKinematicParticles(BodyId body, std::span<const Vec3> targets);
     /// Adds a static plane of any orientation (normal normalised; InputError for a zero or
     /// non-finite normal or offset). Its contacts are made like the floor's, after them.
+    /// Sleeping bodies wake (as they do when the floor changes).
     PlaneId addPlane(Vec3 normal, float offset);
     /// Removes a plane; false for a stale or null handle. Sleeping bodies wake.
     bool removePlane(PlaneId plane);

@@ -727,6 +727,15 @@ void World::setKinematicTarget(BodyId id, Vec3 position, Quat rotation) {
     setKinematicParticles(id, targets);
 }
 
+namespace {
+void wakeEverybody(WorldData& w) {
+    if (w.sleeping == 0) return;
+    for (BodyRecord& r : w.bodies)
+        if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
+    detail::refreshAwake(w);
+}
+} // namespace
+
 PlaneId World::addPlane(Vec3 normal, float offset) {
     requireFinite("plane.normal", normal);
     if (!std::isfinite(offset))
@@ -736,6 +745,7 @@ PlaneId World::addPlane(Vec3 normal, float offset) {
     WorldData& w = *state_;
     w.planeSlots.push_back({Plane{normal / len, offset}, true});
     w.planes.push_back(w.planeSlots.back().first);
+    wakeEverybody(w); // a sleeper the plane cuts must be pushed out of it
     return PlaneId{uint32_t(w.planeSlots.size() - 1), 1};
 }
 
@@ -751,12 +761,7 @@ bool World::removePlane(PlaneId id) {
     w.planes.clear();
     for (const auto& [plane, live] : w.planeSlots)
         if (live) w.planes.push_back(plane);
-    // What held a sleeping body up may be gone: everybody wakes.
-    if (w.sleeping > 0) {
-        for (BodyRecord& r : w.bodies)
-            if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
-        detail::refreshAwake(w);
-    }
+    wakeEverybody(w); // what held a sleeping body up may be gone
     return true;
 }
 

@@ -276,3 +276,54 @@ TEST(Colliders, NamedErrorsAndCollidersIgnoreForces) {
     EXPECT_EQ(particlesOf(world, wall), before);
     EXPECT_TRUE(world.isAwake(wall)); // colliders never sleep
 }
+
+TEST(Colliders, BallsPouredOnAFieldOfPegsSettleNoneInsideNoneThrough) {
+    World world;
+    std::vector<BodyId> pegs;
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+            pegs.push_back(world.addBody(
+                box({0.08f, 0.3f, 0.08f}),
+                collider(BodyMotion::Static, {0.6f * float(i - 1), 0.3f, 0.6f * float(k - 1)})));
+    std::vector<std::vector<Vec3>> before;
+    for (const BodyId p : pegs) before.push_back(particlesOf(world, p));
+    std::vector<BodyId> balls;
+    for (int i = 0; i < 6; ++i)
+        balls.push_back(world.addBody(smallBall(),
+                                      sphereAt({0.25f * float(i % 3) - 0.3f, 1.2f + 0.4f * float(i),
+                                                0.2f * float(i % 2) - 0.1f})));
+    double deepest = 0;
+    for (int f = 0; f < 300; ++f) {
+        world.step();
+        if (f % 10 == 9) deepest = std::max(deepest, deepestInside(world, 0.5f));
+    }
+    EXPECT_LT(deepest, 0.01 * 0.5);
+    for (size_t p = 0; p < pegs.size(); ++p) EXPECT_EQ(particlesOf(world, pegs[p]), before[p]);
+    // Each is down among the pegs or on them (one may still roll on the floor between them).
+    for (const BodyId b : balls) {
+        EXPECT_GT(lowestVertexY(world, b), -0.005f);
+        EXPECT_LT(std::abs(world.linearVelocity(b).y), 0.1f);
+        EXPECT_LT(world.centreOfMass(b).y, 0.6f + 0.3f);
+    }
+}
+
+TEST(Colliders, ASnapshotWithCollidersRestoresAndStepsAlike) {
+    World world;
+    world.addBody(box({1.0f, 0.25f, 1.0f}), collider(BodyMotion::Static, {-1.5f, 0.25f, 0}));
+    const BodyId platform =
+        world.addBody(box({0.6f, 0.1f, 0.6f}), collider(BodyMotion::Kinematic, {1.0f, 0.2f, 0}));
+    world.addBody(ball(), sphereAt({-1.5f, 1.5f, 0}));
+    world.addBody(ball(), sphereAt({1.0f, 1.2f, 0}));
+    auto drive = [&](int frame) {
+        world.setKinematicTarget(platform, {1.0f + 0.5f * std::sin(0.05f * float(frame)), 0.2f, 0},
+                                 Quat::fromAxisAngle({0, 1, 0}, 0.01f * float(frame)));
+        world.step();
+    };
+    for (int f = 1; f <= 40; ++f) drive(f);
+    const std::vector<uint8_t> saved = world.saveState();
+    for (int f = 41; f <= 80; ++f) drive(f);
+    const uint64_t hash = world.stateHash();
+    world.restoreState(saved);
+    for (int f = 41; f <= 80; ++f) drive(f);
+    EXPECT_EQ(world.stateHash(), hash);
+}
