@@ -52,6 +52,7 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   "$prefix/examples-build/save_restore"
   "$prefix/examples-build/pins"
   "$prefix/examples-build/queries"
+  "$prefix/examples-build/colliders" >/dev/null
   # The core alone: its package component finds the threading library and nothing else, and
   # its program links nothing of the content's.
   cmake -S examples/core_only -B "$prefix/core-only-build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \

@@ -70,9 +70,19 @@ struct DragonSettings {
 /// scripts/setup.sh --models) and for a non-positive size or a target below 4.
 TriangleMesh dragon(const DragonSettings& settings = {});
 
+/// A box of half extents `halfExtents` centred at the origin, each face split into n x n quads
+/// (n in 1..256). Closed, welded, outward oriented: a collider (BodyMotion::Static) or a body.
+TriangleMesh box(Vec3 halfExtents, int quadsPerEdge = 4);
+
+/// A bowl: a hemispherical shell of outer radius `radius` and wall `thickness` (0 < thickness <
+/// radius), open upwards with a flat rim at y = 0, its bottom at y = -radius, `segments` around
+/// (8..1024). Closed and outward oriented (a thick wall: colliders must be closed meshes whose
+/// walls span a lattice cell or more).
+TriangleMesh bowl(float radius = 1.0f, float thickness = 0.15f, int segments = 32);
+
 /// A generated object by name: "sphere" (icosphere, 2 subdivisions, radius 1), "icosphere:N",
-/// "teapot" (n = 10), "teapot:N", "letter:X" (X in A-Z), "dragon". Throws InputError naming
-/// the spec for anything else.
+/// "teapot" (n = 10), "teapot:N", "letter:X" (X in A-Z), "dragon", "box" (a 1 m cube), "bowl"
+/// (radius 1, wall 0.15). Throws InputError naming the spec for anything else.
 TriangleMesh generate(std::string_view spec);
 
 /// The paper's Table 2 row for a generator name (letters: the alphabet average), or nullptr.

@@ -20,7 +20,11 @@
 //         "material": { "model": "shape-matching" | "mass-spring", "region_half_width": 1,
 //                       "stiffness": 1, "youngs_modulus": 2e5, "spring_iterations": 20,
 //                       "density": 1000, "mass": 0, "damping": 20, "region_damping": false,
-//                       "friction": 0.5, "restitution": 0, "contact_rigidity": 0.5 } } ],
+//                       "friction": 0.5, "restitution": 0, "contact_rigidity": 0.5 },
+//         "motion": "dynamic" | "static" | "kinematic",   (BodyMotion: colliders)
+//         "position": [0,0.5,0],                   (its bounds' centre there, not by the layout;
+//                                                  count 1)
+//         "scale": [1,0.2,1] } ],                  (per axis, after size: a slab from "box")
 //     "layout": { "origin": [0,1,0], "columns": [5,5], "spacing": 1.2, "jitter": 0.1,
 //                 "random_rotation": true, "velocity": [0,0,0], "velocity_jitter": 0,
 //                 "seed": 1 },
@@ -30,11 +34,14 @@
 //                                                  body is as placed, world coordinates)
 //         "target": [0,2.5,0],                     (default: where the pinned point starts)
 //         "stiffness": "hard" | 5000,              (N/m)
-//         "rigidity": 1, "swing_damping": 0.5, "max_speed": 10 } ]
+//         "rigidity": 1, "swing_damping": 0.5, "max_speed": 10 } ],
+//     "planes": [ { "normal": [0.3,1,0], "offset": 0 } ]   (World::addPlane, besides the floor)
 //   }
 // The layout stacks the objects in layers of columns[0] x columns[1] cells of `spacing` metres
 // (centred on origin in x and z, rising from origin.y), in the order of `objects`, each cell
-// jittered and each object rotated at random (seeded, so a scene is deterministic).
+// jittered and each object rotated at random (seeded, so a scene is deterministic). Objects with
+// a "position" (colliders: stairs, a bowl, a platform) are placed there, unrotated and at rest,
+// and take no cell of the layout.
 #pragma once
 
 #include "ffdaabb/world.h"
@@ -50,8 +57,11 @@ struct SceneObject {
     std::filesystem::path meshFile; ///< a mesh file (resolved relative to the scene file)
     std::string letters = "ABCDEFGHIJKLMNOPQRSTUVWXYZ";
     int count = 1;
-    float size = 1.0f; ///< largest extent after normalisation, metres
-    BodySettings body; ///< lattice and material (pose is set by the layout)
+    float size = 1.0f;   ///< largest extent after normalisation, metres
+    BodySettings body;   ///< lattice, material and motion (pose is set by the layout)
+    bool placed = false; ///< at `position` (one object, unrotated, at rest), not by the layout
+    Vec3 position;
+    Vec3 scale{1, 1, 1}; ///< per axis, applied after the size's normalisation
 };
 
 struct SceneLayout {
@@ -84,6 +94,7 @@ struct Scene {
     std::vector<SceneObject> objects;
     SceneLayout layout;
     std::vector<ScenePin> pins;
+    std::vector<Plane> planes; ///< plane colliders (World::addPlane), in order
 
     int objectCount() const;
 };
@@ -100,7 +111,8 @@ Scene parseScene(const std::string& json, const std::filesystem::path& source);
 /// Names of the scenes found in those folders.
 std::vector<std::string> sceneNames();
 
-/// Sets the total object count, scaling each entry's count in proportion (at least 1 each).
+/// Sets the total object count, scaling each entry's count in proportion (at least 1 each);
+/// placed entries (a "position") keep their one object.
 void setObjectCount(Scene& scene, int count);
 
 /// What a built scene holds.

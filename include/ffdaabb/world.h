@@ -40,8 +40,22 @@ enum class DynamicsModel : uint8_t {
     MassSpring,    ///< springs along lattice edges and diagonals (implicit Euler)
 };
 
+/// How a body moves (docs/ARCHITECTURE.md, "Colliders"). A static or kinematic body is a
+/// regular body (a mesh in a lattice) that collides through the same pipeline as any other, as a
+/// body of infinite mass: contacts never move it, the dynamics never step it, it never sleeps,
+/// it makes no contacts with the floor, the planes or other static and kinematic bodies, and
+/// forces, impulses and velocities given to it are ignored.
+enum class BodyMotion : uint8_t {
+    Dynamic,   ///< moved by the dynamics and the contacts
+    Static,    ///< never moves (unless placed: translate, setParticles)
+    Kinematic, ///< moved by the user (World::setKinematicTarget) over each step
+};
+
 const char* toString(CollisionMode mode);
 const char* toString(DynamicsModel model);
+const char* toString(BodyMotion motion);
+/// Parses "dynamic", "static", "kinematic"; returns false for anything else.
+bool parseBodyMotion(std::string_view text, BodyMotion& out);
 /// Parses "enhanced", "previous", "brute", "none"; returns false for anything else.
 bool parseCollisionMode(std::string_view text, CollisionMode& out);
 bool parseDynamicsModel(std::string_view text, DynamicsModel& out);
@@ -78,10 +92,27 @@ struct BodySettings {
     /// May fall asleep when it and every body it touches have been at rest for a while
     /// (WorldSettings::sleepSpeed); false for a body the user drives every frame.
     bool allowSleep = true;
+    /// Dynamic, or a collider of infinite mass: Static or Kinematic (BodyMotion).
+    BodyMotion motion = BodyMotion::Dynamic;
     Vec3 position;        ///< the mesh's origin is placed here
     Quat rotation;        ///< and the mesh rotated about it
     Vec3 velocity;        ///< initial velocity of the centre of mass, m/s
     Vec3 angularVelocity; ///< initial angular velocity about the centre of mass, rad/s
+};
+
+/// A static plane collider (World::addPlane): the half-space dot(normal, p) < offset is solid.
+struct Plane {
+    Vec3 normal{0, 1, 0}; ///< unit (addPlane normalises it), pointing out of the solid side
+    float offset = 0;     ///< m: the plane is dot(normal, p) = offset
+};
+
+/// A handle to a plane: slot index + generation, like BodyId.
+struct PlaneId {
+    uint32_t index = UINT32_MAX;
+    uint32_t generation = 0;
+
+    bool isNull() const { return index == UINT32_MAX; }
+    friend bool operator==(const PlaneId&, const PlaneId&) = default;
 };
 
 /// World-wide settings.
@@ -298,12 +329,33 @@ public:
     /// Mass of one lattice particle, kg (its share of the body's mass).
     float particleMass(BodyId body, uint32_t particle) const;
 
+    /// Colliders (docs/ARCHITECTURE.md, "Colliders"). Static and kinematic bodies are bodies
+    /// with BodySettings::motion set. A kinematic body moves only where this sends it: over the
+    /// next step() its particles go in a straight line, at constant velocity, from where they
+    /// are to the pose (`position`, `rotation`: as BodySettings places the mesh), so contacts
+    /// and friction see its motion (a moving platform carries what rests on it, a paddle
+    /// pushes); after the step its velocities are 0 again. Bodies it may reach wake.
+    /// InputError for a stale body, a body that is not kinematic or a non-finite pose.
+    void setKinematicTarget(BodyId body, Vec3 position, Quat rotation = {});
+    /// The same with every particle's target given (#P entries): a kinematic body that deforms.
+    void setKinematicParticles(BodyId body, std::span<const Vec3> targets);
+    /// Adds a static plane of any orientation (normal normalised; InputError for a zero or
+    /// non-finite normal or offset). Its contacts are made like the floor's, after them.
+    /// Sleeping bodies wake (as they do when the floor changes).
+    PlaneId addPlane(Vec3 normal, float offset);
+    /// Removes a plane; false for a stale or null handle. Sleeping bodies wake.
+    bool removePlane(PlaneId plane);
+    bool isValid(PlaneId plane) const;
+    /// The planes, in the order they were added.
+    std::vector<Plane> planes() const;
+
     /// Whether the body is awake (WorldSettings::sleepSpeed).
     bool isAwake(BodyId body) const;
     /// Wakes the body and every body it fell asleep with (true), or puts the body alone to
     /// sleep now (false; its velocities become zero). A body with allowSleep false stays awake.
     void setAwake(BodyId body, bool awake);
-    /// Bodies awake now.
+    /// Dynamic bodies awake now (static and kinematic bodies never sleep, and isAwake says
+    /// true for them, but they are not counted here).
     size_t awakeCount() const;
 
     const Profile& profile() const;

@@ -54,9 +54,11 @@ void updateNodes(CollisionWorld& w, size_t firstBody, size_t lastBody) {
         float speed2 = 0;
         Vec3 momentum{};
         float mass = 0;
+        // A body of infinite mass in the view (static, kinematic): weighted by its mass fractions.
+        const bool infinite = w.invMass[r.firstParticle] == 0;
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) {
             speed2 = maxNum(speed2, lengthSquared(w.v[i]));
-            const float m = 1.0f / w.invMass[i];
+            const float m = infinite ? r.massFraction[i - r.firstParticle] : 1.0f / w.invMass[i];
             momentum += w.v[i] * m;
             mass += m;
         }

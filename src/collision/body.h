@@ -31,6 +31,10 @@ struct CollisionBody {
     /// Asleep (the world's): it does not move in this step, its particles' inverse masses in
     /// the view are 0, and no contacts are made between two sleeping bodies nor with the floor.
     bool asleep = false;
+    /// Asleep, static or kinematic (the world's): contacts do not move it (its particles'
+    /// inverse masses in the view are 0); no contacts are made between two immovable bodies,
+    /// nor between one and the floor or the planes.
+    bool immovable = false;
     // Written by node_update.
     Aabb bounds;        ///< of the box nodes
     float maxSpeed = 0; ///< fastest particle, m/s
@@ -65,6 +69,7 @@ struct CollisionWorld {
     std::span<Vec3> nodes;          ///< 8 per box
     std::span<Aabb> boxBounds;      ///< per box
     std::span<CollisionBody> bodies;
+    std::span<const Plane> planes; ///< plane colliders besides the floor (World::addPlane)
     CollisionState& collision;
     Workers& workers;
     Profile& profile;

@@ -14,7 +14,7 @@ namespace {
 template <class F>
 void forNodesNearFloor(const CollisionWorld& w, uint32_t b, F&& fn) {
     const CollisionBody& r = w.bodies[b];
-    if (r.asleep) return; // it does not move
+    if (r.immovable) return; // contacts do not move it
     const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
     const float limit = w.settings.floorHeight + skin;
     if (r.bounds.lo.y >= limit) return;
@@ -27,13 +27,82 @@ void forNodesNearFloor(const CollisionWorld& w, uint32_t b, F&& fn) {
     }
 }
 
+// The same for the plane dot(n, p) = offset: body b's nodes within the margin of its solid side.
+template <class F>
+void forNodesNearPlane(const CollisionWorld& w, uint32_t b, const Plane& plane, F&& fn) {
+    const CollisionBody& r = w.bodies[b];
+    if (r.immovable) return;
+    const float skin = skinOf(w, r) + w.substep * r.maxSpeed;
+    const float limit = plane.offset + skin;
+    auto lowest = [&](const Aabb& box) { // the box's corner farthest along -n
+        const Vec3 n = plane.normal;
+        return dot(n, Vec3{n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
+                           n.z >= 0 ? box.lo.z : box.hi.z});
+    };
+    if (lowest(r.bounds) >= limit) return;
+    for (uint32_t k = 0; k < r.boxCount; ++k) {
+        if (lowest(w.boxBounds[r.firstBox + k]) >= limit) continue;
+        for (int corner = 0; corner < 8; ++corner) {
+            const uint32_t node = (r.firstBox + k) * 8 + uint32_t(corner);
+            if (dot(plane.normal, w.nodes[node]) < limit) fn(k, corner, node);
+        }
+    }
+}
+
+// Appends the plane colliders' contacts after the floor's, body by body, plane by plane in
+// each (counted, then made at their places, as the floor's).
+void findPlaneContacts(CollisionWorld& w) {
+    CollisionState& s = w.collision;
+    const uint32_t n = uint32_t(w.bodies.size());
+    constexpr size_t kBodiesPerChunk = 8;
+    std::vector<size_t> start(n + 1, 0);
+    w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
+        for (uint32_t b = uint32_t(first); b < last; ++b)
+            for (const Plane& plane : w.planes)
+                forNodesNearPlane(w, b, plane, [&](uint32_t, int, uint32_t) { ++start[b + 1]; });
+    });
+    start[0] = s.all.size();
+    for (uint32_t b = 0; b < n; ++b) start[b + 1] += start[b];
+    if (start[n] == start[0]) return;
+    if (s.all.capacity() < start[n]) s.all.reserve(start[n] + start[n] / 2);
+    s.all.resize(start[n]);
+    w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
+        for (uint32_t b = uint32_t(first); b < last; ++b) {
+            const CollisionBody& r = w.bodies[b];
+            const Lattice& L = *r.lattice;
+            size_t at = start[b];
+            for (const Plane& plane : w.planes)
+                forNodesNearPlane(w, b, plane, [&](uint32_t k, int corner, uint32_t node) {
+                    const CellBox& box = L.boxes[k];
+                    Contact c;
+                    c.bodyA = b;
+                    c.nodeA = node;
+                    c.normal = plane.normal;
+                    c.offset = plane.offset;
+                    c.distance = dot(plane.normal, w.nodes[node]) - plane.offset;
+                    setPushOut(w, r, b, kFloorBody, c);
+                    c.friction = r.friction;
+                    c.restitution = r.restitution;
+                    c.rigidity = r.contactRigidity;
+                    makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
+                                     box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
+                    s.all[at++] = c;
+                });
+        }
+    });
+}
+
 } // namespace
 
 void findFloorContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     s.all.resize(s.objectCount);
     w.profile.floorContacts = 0;
-    if (!w.settings.floor) return;
+    if (!w.settings.floor) {
+        if (!w.planes.empty()) findPlaneContacts(w);
+        w.profile.floorContacts = int(s.all.size() - s.objectCount);
+        return;
+    }
     // Counted per body, then made at their places after the object contacts, body by body:
     // the same order for any thread count, and each contact written once, on the thread that
     // makes it (contacts are large: copying them from per-thread lists into place cost more
@@ -76,6 +145,7 @@ void findFloorContacts(CollisionWorld& w) {
             });
         }
     });
+    if (!w.planes.empty()) findPlaneContacts(w);
     w.profile.floorContacts = int(s.all.size() - s.objectCount);
 }
 

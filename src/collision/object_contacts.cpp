@@ -274,7 +274,7 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     auto testBox = [&](CollisionState::QueryScratch& q, uint32_t bodyB, uint32_t box,
                        uint32_t bodyA, uint32_t node, Vec3 p, float margin) {
         if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
-        if (w.bodies[bodyA].asleep && w.bodies[bodyB].asleep) return; // nor these
+        if (w.bodies[bodyA].immovable && w.bodies[bodyB].immovable) return; // nor these
         ++q.potential;
         if (!w.boxBounds[box].contains(p, margin)) return;
         const uint32_t own = node / 8;

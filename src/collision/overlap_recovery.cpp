@@ -81,9 +81,18 @@ void trackOverlaps(CollisionWorld& w) {
             if (w.bodies[p.a].placed || w.bodies[p.b].placed) added.push_back({p.a, p.b});
         for (uint32_t b = 0; b < w.bodies.size(); ++b) {
             const CollisionBody& r = w.bodies[b];
-            if (w.settings.floor && r.placed &&
-                r.bounds.lo.y < w.settings.floorHeight + skinOf(w, r))
-                added.push_back({b, kFloorBody});
+            bool below = w.settings.floor && r.placed &&
+                         r.bounds.lo.y < w.settings.floorHeight + skinOf(w, r);
+            // The planes (World::addPlane) share the floor's pair: their contacts are its kind.
+            for (const Plane& plane : w.planes) {
+                if (below || !r.placed || r.immovable) break;
+                const Vec3 n = plane.normal;
+                const Vec3 low{n.x >= 0 ? r.bounds.lo.x : r.bounds.hi.x,
+                               n.y >= 0 ? r.bounds.lo.y : r.bounds.hi.y,
+                               n.z >= 0 ? r.bounds.lo.z : r.bounds.hi.z};
+                below = dot(n, low) < plane.offset + skinOf(w, r);
+            }
+            if (below) added.push_back({b, kFloorBody});
         }
         auto byKey = [](const OverlapPair& x, const OverlapPair& y) { return keyOf(x) < keyOf(y); };
         std::sort(added.begin(), added.end(), byKey);
@@ -165,17 +174,23 @@ void pushWholePairsApart(CollisionWorld& w, float dt) {
             if (std::isnan(velocity[i].x))
                 before[i] = velocity[i] = massWeightedMean(w.bodies[i], w.v);
         const float approach = dot(velocity[a] - velocity[b], d);
-        if (approach < 0) {
+        // A static or kinematic body (awake, not dynamic) is one of infinite mass: its partner
+        // does all the moving.
+        const bool fixedA = A.immovable && !A.asleep, fixedB = B.immovable && !B.asleep;
+        if (approach < 0 && !fixedA && !fixedB) {
             const float j = -approach / (1.0f / A.mass + 1.0f / B.mass);
             velocity[a] += d * (j / A.mass);
             velocity[b] -= d * (j / B.mass);
+        } else if (approach < 0 && fixedA != fixedB) {
+            if (fixedB) velocity[a] -= d * approach;
+            if (fixedA) velocity[b] += d * approach;
         }
         // Deeper pairs push harder (a body amid many partners is moved by the sum, bounded):
         // the weight is the bounding spheres' overlap as a share of their radii's sum. Split by
         // mass as the contacts do: the lighter body moves more.
         const float radii = A.sphereRadius + B.sphereRadius;
         const float weight = radii > 0 ? minNum(maxNum(1.0f - len / radii, 0.05f), 1.0f) : 1.0f;
-        const float share = weight * B.mass / (A.mass + B.mass);
+        const float share = fixedA ? 0.0f : fixedB ? weight : weight * B.mass / (A.mass + B.mass);
         push[a] += d * share;
         push[b] -= d * (weight - share);
         heaviest[a] = maxNum(heaviest[a], weight);
@@ -185,6 +200,7 @@ void pushWholePairsApart(CollisionWorld& w, float dt) {
     for (uint32_t b = 0; b < n; ++b) {
         if (std::isnan(velocity[b].x)) continue; // in no whole pair
         CollisionBody& r = w.bodies[b];
+        if (r.immovable && !r.asleep) continue; // a collider is not pushed
         const Vec3 dv = velocity[b] - before[b];
         for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i) w.v[i] += dv;
         const float len = length(push[b]);

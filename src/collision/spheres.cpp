@@ -13,9 +13,9 @@ namespace ffd::detail {
 
 namespace {
 
-// Two sleeping bodies do not move: they need no contacts.
+// Two sleeping, static or kinematic bodies are not moved by contacts: they need none.
 bool bothAsleep(const CollisionWorld& w, uint32_t i, uint32_t j) {
-    return w.bodies[i].asleep && w.bodies[j].asleep;
+    return w.bodies[i].immovable && w.bodies[j].immovable;
 }
 
 bool spheresOverlap(const CollisionWorld& w, uint32_t i, uint32_t j) {

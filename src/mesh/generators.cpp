@@ -18,7 +18,7 @@ bool parseSuffix(std::string_view spec, std::string_view prefix, int& out) {
 } // namespace
 
 const char* generatorNames() {
-    return "sphere, icosphere:N, teapot, teapot:N, letter:A..letter:Z, dragon";
+    return "sphere, icosphere:N, teapot, teapot:N, letter:A..letter:Z, dragon, box, bowl";
 }
 
 TriangleMesh generate(std::string_view spec) {
@@ -36,6 +36,10 @@ TriangleMesh generate(std::string_view spec) {
         mesh = letter(spec[7]);
     else if (spec == "dragon")
         mesh = dragon();
+    else if (spec == "box")
+        mesh = box({0.5f, 0.5f, 0.5f});
+    else if (spec == "bowl")
+        mesh = bowl();
     else
         throw InputError(std::string(spec), std::string("unknown generator (expected one of: ") +
                                                 generatorNames() + ")");

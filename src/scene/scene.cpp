@@ -249,7 +249,8 @@ std::string generatorProblem(const std::string& spec) {
                    std::to_string(lo) + ".." + std::string(prefix) + std::to_string(hi) + ")";
         return "";
     };
-    if (spec == "sphere" || spec == "teapot" || spec == "dragon") return "";
+    if (spec == "sphere" || spec == "teapot" || spec == "dragon" || spec == "box" || spec == "bowl")
+        return "";
     if (spec.rfind("icosphere:", 0) == 0) return suffix("icosphere:", 0, 8);
     if (spec.rfind("teapot:", 0) == 0) return suffix("teapot:", 1, 256);
     if (spec.rfind("letter:", 0) == 0) {
@@ -302,6 +303,16 @@ SceneObject readObject(Fields f, const std::filesystem::path& file) {
         readLattice(Fields(*l, f.at("lattice"), file), o.body.lattice);
     if (const Json* m = f.find("material"))
         readMaterial(Fields(*m, f.at("material"), file), o.body);
+    std::string motion;
+    if (f.string("motion", motion) && !parseBodyMotion(motion, o.body.motion))
+        f.fail(f.at("motion"),
+               "unknown motion \"" + motion + "\" (expected dynamic, static or kinematic)");
+    o.placed = f.vec3("position", o.position, 1e6);
+    if (o.placed && o.count != 1)
+        f.fail(f.at("count"), "value " + std::to_string(o.count) +
+                                  " with a position (expected 1: a placed object is one object)");
+    if (f.vec3("scale", o.scale, 1e4) && !(o.scale.x > 0 && o.scale.y > 0 && o.scale.z > 0))
+        f.fail(f.at("scale"), "expected positive numbers (a scale per axis)");
     f.finish();
     return o;
 }
@@ -441,6 +452,22 @@ Scene parseScene(const std::string& text, const std::filesystem::path& file) {
             scene.pins.push_back(
                 readPin(Fields((*pins)[i], "pins[" + std::to_string(i) + "]", file), total));
     }
+    if (const Json* planes = f.find("planes")) {
+        if (!planes->is_array())
+            f.fail("planes", "expected an array of planes, got " + shortValue(*planes));
+        for (size_t i = 0; i < planes->size(); ++i) {
+            Fields p((*planes)[i], "planes[" + std::to_string(i) + "]", file);
+            Plane plane;
+            if (!p.vec3("normal", plane.normal, 1e6))
+                p.fail(p.at("normal"), "missing (expected an array of 3 numbers)");
+            const float len = length(plane.normal);
+            if (!(len > 1e-6f)) p.fail(p.at("normal"), "zero (expected a non-zero direction)");
+            plane.normal = plane.normal / len;
+            p.number("offset", plane.offset, -1e6, 1e6, "metres, -1e6..1e6");
+            p.finish();
+            scene.planes.push_back(plane);
+        }
+    }
     f.finish();
     validate(scene.world);
     for (const SceneObject& o : scene.objects) validate(o.body);
@@ -510,11 +537,23 @@ std::vector<std::string> sceneNames() {
 void setObjectCount(Scene& scene, int count) {
     if (count < 1)
         throw InputError("--objects", "must be at least 1, got " + std::to_string(count));
-    const int total = scene.objectCount();
-    const int entries = int(scene.objects.size());
+    // The placed entries keep their one object; the others share the rest.
+    std::vector<SceneObject*> free;
+    int placed = 0;
+    for (SceneObject& o : scene.objects) {
+        if (o.placed)
+            ++placed;
+        else
+            free.push_back(&o);
+    }
+    if (free.empty()) return;
+    if (placed > 0) count = std::max(count - placed, 1);
+    int total = 0;
+    for (const SceneObject* o : free) total += o->count;
+    const int entries = int(free.size());
     int assigned = 0;
     for (int i = 0; i < entries; ++i) {
-        SceneObject& o = scene.objects[size_t(i)];
+        SceneObject& o = *free[size_t(i)];
         const int share =
             i + 1 == entries ? count - assigned : int(std::lround(double(o.count) * count / total));
         // Every entry keeps at least one object, and rounding up must not take the ones the
@@ -537,6 +576,8 @@ TriangleMesh sceneObjectMesh(const SceneObject& o, int index) {
         m = generate(o.mesh);
     }
     normalizeSize(m, o.size);
+    if (o.scale != Vec3{1, 1, 1})
+        for (Vec3& p : m.positions) p = {p.x * o.scale.x, p.y * o.scale.y, p.z * o.scale.z};
     return m;
 }
 
@@ -552,6 +593,9 @@ SceneBuild buildScene(const Scene& scene) {
                               : o.mesh;
         key += '@';
         key += std::to_string(o.size);
+        if (o.scale != Vec3{1, 1, 1})
+            key += '*' + std::to_string(o.scale.x) + ',' + std::to_string(o.scale.y) + ',' +
+                   std::to_string(o.scale.z);
         auto it = meshes.find(key);
         if (it == meshes.end()) it = meshes.emplace(key, sceneObjectMesh(o, index)).first;
         return it->second;
@@ -586,8 +630,24 @@ SceneBuild buildScene(const Scene& scene) {
     int slot = 0;
     for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
         const SceneObject& o = scene.objects[oi];
-        for (int i = 0; i < o.count; ++i, ++slot) {
+        for (int i = 0; i < o.count; ++i, slot += !o.placed) {
             const TriangleMesh& mesh = meshFor(o, i); // made above: cannot fail now
+            if (o.placed) { // where it is given, at rest: no cell of the layout, no randomness
+                BodySettings s = o.body;
+                s.position = o.position;
+                try {
+                    out.bodies.push_back(out.world.addBody(mesh, s));
+                } catch (const InputError& e) {
+                    throw objectError(oi, e.what());
+                }
+                const BodyInfo info = out.world.info(out.bodies.back());
+                out.vertices += info.vertices;
+                out.triangles += info.triangles;
+                out.cells += info.cells;
+                out.particles += info.particles;
+                out.nodes += info.surfaceCells * 8;
+                continue;
+            }
             const int layer = slot / perLayer, r = slot % perLayer;
             const int ix = r % L.columns[0], iz = r / L.columns[0];
             BodySettings s = o.body;
@@ -616,6 +676,7 @@ SceneBuild buildScene(const Scene& scene) {
             out.nodes += info.surfaceCells * 8;
         }
     }
+    for (const Plane& plane : scene.planes) out.world.addPlane(plane.normal, plane.offset);
     for (size_t n = 0; n < scene.pins.size(); ++n) {
         const ScenePin& pin = scene.pins[n];
         const auto pinError = [&](const char* field, const std::string& problem) {
@@ -628,6 +689,10 @@ SceneBuild buildScene(const Scene& scene) {
                                          std::to_string(out.bodies.size()) + " objects)");
         const BodyId body = out.bodies[size_t(pin.object)];
         const BodyInfo info = out.world.info(body);
+        if (out.world.settings(body).motion != BodyMotion::Dynamic)
+            throw pinError("object", "object " + std::to_string(pin.object) + " is " +
+                                         toString(out.world.settings(body).motion) +
+                                         " (expected a dynamic object: colliders are not pinned)");
         PinId id;
         if (pin.at == ScenePin::At::Particle) {
             if (pin.index >= info.particles)

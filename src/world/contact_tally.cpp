@@ -106,7 +106,12 @@ void finishContactTally(WorldData& w) {
         uint32_t a = 0, b = 0;
         if (!denseNow(w, p.bodyA, a) || !denseNow(w, p.bodyB, b)) continue;
         const bool floor = p.bodyB.isNull();
-        if (!w.bodies[a].asleep || (!floor && !w.bodies[b].asleep)) continue;
+        // (A sleeper on a static or still kinematic body is such a pair too.)
+        const detail::CollisionBody& A = w.collision.bodies[a];
+        if (floor ? !A.asleep
+                  : !(A.immovable && w.collision.bodies[b].immovable &&
+                      (A.asleep || w.collision.bodies[b].asleep)))
+            continue;
         const uint64_t key = floor ? pairKey(a, b) : pairKey(std::min(a, b), std::max(a, b));
         if (!std::binary_search(t.pairKeys.begin(), t.pairKeys.end(), key))
             resting.push_back({key, p});

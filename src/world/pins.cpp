@@ -79,6 +79,10 @@ Vec3 pinPointOf(const Pin& pin, const std::vector<Vec3>& x, uint32_t p0) {
 }
 
 PinId addPin(WorldData& w, Pin pin) {
+    const BodyMotion motion = w.find(pin.body)->settings.motion;
+    if (motion != BodyMotion::Dynamic)
+        throw InputError("body.motion", std::string("a ") + toString(motion) +
+                                            " body cannot be pinned (expected dynamic)");
     detail::PinState& s = w.pins;
     uint32_t slot;
     if (!s.freeSlots.empty()) {

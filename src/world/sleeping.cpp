@@ -29,17 +29,23 @@ void join(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
 
 void refreshAwake(WorldData& w) {
     w.awake.clear();
+    w.kinematic.clear();
+    w.sleeping = 0;
     w.contactInvMass.resize(w.invMass.size());
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
-        if (!r.asleep) w.awake.push_back(b);
+        const bool dynamic = r.settings.motion == BodyMotion::Dynamic;
+        if (!r.asleep && dynamic) w.awake.push_back(b);
+        if (r.settings.motion == BodyMotion::Kinematic) w.kinematic.push_back(b);
+        w.sleeping += r.asleep;
         const auto first = w.invMass.begin() + r.firstParticle;
         const auto to = w.contactInvMass.begin() + r.firstParticle;
-        if (r.asleep)
+        if (r.asleep || !dynamic)
             std::fill(to, to + r.particleCount, 0.0f);
         else
             std::copy(first, first + r.particleCount, to);
         w.collision.bodies[b].asleep = r.asleep;
+        w.collision.bodies[b].immovable = r.asleep || !dynamic;
     }
     rebuildDynamicsBatches(w);
 }
@@ -92,12 +98,28 @@ void putToSleep(WorldData& w, const uint32_t* bodies, uint32_t count) {
 
 namespace {
 
+// What a body is to the sleeping: asleep, awake (dynamic), a collider that does not move in the
+// frame (static, or kinematic and still: nobody's reason to stay awake or to wake) or a moving
+// kinematic body (a reason to stay awake and to wake, like an awake body).
+enum Role : uint8_t { Sleeper, Awake, Still, Moving };
+
+Role roleOf(const WorldData& w, uint32_t b) {
+    const BodyRecord& r = w.bodies[b];
+    if (r.asleep) return Sleeper;
+    if (r.settings.motion == BodyMotion::Dynamic) return Awake;
+    if (r.settings.motion == BodyMotion::Static) return Still;
+    for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+        if (lengthSquared(w.v[i]) > 0) return Moving;
+    return Still;
+}
+
 // Each body's reach in a frame: a sleeping body's bounds grown by its skin; an awake body's
 // grown by twice what it can travel in the frame under gravity from its fastest particle's
-// speed (its bounds are a substep old), and by its skin. Calls fn(i, j) for each pair of bodies
-// whose reaches overlap, one of them at least awake (sort and sweep on x, in a fixed order).
+// speed (its bounds are a substep old), and by its skin; a collider's by its skin and, moving,
+// twice what it travels. Calls fn(i, j) for each pair of bodies whose reaches overlap, one of
+// them at least awake or moving (sort and sweep on x, in a fixed order).
 template <class F>
-void forBodiesWithinReach(WorldData& w, F&& fn) {
+void forBodiesWithinReach(WorldData& w, const std::vector<Role>& role, F&& fn) {
     const WorldSettings& s = w.settings;
     const size_t n = w.bodies.size();
     const float T = s.frameStep;
@@ -108,11 +130,11 @@ void forBodiesWithinReach(WorldData& w, F&& fn) {
         const BodyRecord& r = w.bodies[b];
         const CollisionBody& c = w.collision.bodies[b];
         float grow = s.contactSkin * r.cellSize;
-        if (!r.asleep) {
+        if (role[b] == Awake || role[b] == Moving) {
             float speed2 = 0;
             for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
                 speed2 = maxNum(speed2, lengthSquared(w.v[i]));
-            grow += 2.0f * T * (std::sqrt(speed2) + fall);
+            grow += 2.0f * T * (std::sqrt(speed2) + (role[b] == Awake ? fall : 0.0f));
         }
         extent[b] = {c.bounds.lo - Vec3{grow, grow, grow}, c.bounds.hi + Vec3{grow, grow, grow}};
         order[b] = b;
@@ -120,14 +142,21 @@ void forBodiesWithinReach(WorldData& w, F&& fn) {
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
         return extent[a].lo.x < extent[b].lo.x || (extent[a].lo.x == extent[b].lo.x && a < b);
     });
+    auto active = [&](uint32_t b) { return role[b] == Awake || role[b] == Moving; };
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = order[k];
         for (size_t m = k + 1; m < n && extent[order[m]].lo.x <= extent[i].hi.x; ++m) {
             const uint32_t j = order[m];
-            if ((!w.bodies[i].asleep || !w.bodies[j].asleep) && extent[i].overlaps(extent[j]))
+            if ((active(i) || active(j)) && extent[i].overlaps(extent[j]))
                 fn(std::min(i, j), std::max(i, j));
         }
     }
+}
+
+std::vector<Role> roles(const WorldData& w) {
+    std::vector<Role> role(w.bodies.size());
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) role[b] = roleOf(w, b);
+    return role;
 }
 
 } // namespace
@@ -136,16 +165,17 @@ void wakeWithinReach(WorldData& w) {
     const WorldSettings& s = w.settings;
     if (s.sleepSpeed > 0) w.frameStartX.assign(w.x.begin(), w.x.end());
     const size_t n = w.bodies.size();
-    if (w.awake.size() == n) return;
+    if (w.sleeping == 0) return;
     if (s.sleepSpeed == 0) { // sleeping was turned off
         for (BodyRecord& r : w.bodies) r.asleep = false, r.island = 0, r.quietTime = 0;
         refreshAwake(w);
         return;
     }
     std::vector<uint8_t> reached(n, 0);
-    forBodiesWithinReach(w, [&](uint32_t i, uint32_t j) {
-        const bool si = w.bodies[i].asleep, sj = w.bodies[j].asleep;
-        if (si != sj) reached[si ? i : j] = 1;
+    const std::vector<Role> role = roles(w);
+    forBodiesWithinReach(w, role, [&](uint32_t i, uint32_t j) {
+        if (role[i] == Sleeper && role[j] != Still) reached[i] = 1;
+        if (role[j] == Sleeper && role[i] != Still) reached[j] = 1;
     });
     for (uint32_t b = 0; b < n; ++b)
         if (reached[b] && w.bodies[b].asleep) wakeIsland(w, b);
@@ -185,14 +215,19 @@ void fallAsleep(WorldData& w) {
     parent.resize(w.bodies.size());
     std::iota(parent.begin(), parent.end(), 0u);
     std::vector<uint8_t> blocked(w.bodies.size(), 0);
+    const std::vector<Role> role = roles(w);
+    // Two awake bodies join; an awake body beside a sleeper or a moving collider is blocked;
+    // a still collider is nobody's neighbour.
     auto link = [&](uint32_t a, uint32_t b) {
-        const bool sa = w.bodies[a].asleep, sb = w.bodies[b].asleep;
-        if (sa || sb)
-            blocked[sa ? b : a] = 1;
-        else
+        const Role ra = role[a], rb = role[b];
+        if (ra == Awake && rb == Awake)
             join(parent, a, b);
+        else if (ra == Awake && (rb == Sleeper || rb == Moving))
+            blocked[a] = 1;
+        else if (rb == Awake && (ra == Sleeper || ra == Moving))
+            blocked[b] = 1;
     };
-    forBodiesWithinReach(w, link);
+    forBodiesWithinReach(w, role, link);
     for (const Contact& c : w.collision.objectContacts())
         if (c.hasB) link(c.bodyA, c.bodyB);
     for (const OverlapPair& p : w.collision.overlaps) {

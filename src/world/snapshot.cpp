@@ -362,11 +362,17 @@ SceneDescription describeScene(const WorldData& w) {
     world("mode", double(w.settings.mode));
     world("meshUpdate", w.settings.meshUpdate);
 
-    d.bodyNames = {"mesh.vertices",       "mesh.triangles",
-                   "lattice.cellSize",    "lattice.resolution",
-                   "lattice.targetCells", "lattice.fillInterior",
-                   "lattice.boxSkin",     "model",
-                   "regionDamping",       "allowSleep"};
+    d.bodyNames = {"mesh.vertices",
+                   "mesh.triangles",
+                   "lattice.cellSize",
+                   "lattice.resolution",
+                   "lattice.targetCells",
+                   "lattice.fillInterior",
+                   "lattice.boxSkin",
+                   "model",
+                   "regionDamping",
+                   "allowSleep",
+                   "motion"};
     for (const SettingRange& r : bodySettingRanges()) d.bodyNames.push_back(r.field);
     for (const char* name : {"particles", "boxes", "massKg", "cellSizeM"})
         d.bodyNames.push_back(name);
@@ -389,7 +395,7 @@ SceneDescription describeScene(const WorldData& w) {
                                double(s.lattice.cellSize), double(s.lattice.resolution),
                                double(s.lattice.targetCells), double(s.lattice.fillInterior),
                                double(s.lattice.boxSkin), double(s.model), double(s.regionDamping),
-                               double(s.allowSleep)})
+                               double(s.allowSleep), double(s.motion)})
             d.bodyValues.push_back(v);
         for (const auto& m : bodyMembers) d.bodyValues.push_back(detail::settingValue(s, m));
         for (const double v :
@@ -420,6 +426,7 @@ void writeScene(const WorldData& w, Writer& out) {
 std::string valueText(const std::string& name, double v) {
     if (name == "mode" && v >= 0 && v <= 3) return toString(CollisionMode(int(v)));
     if (name == "model" && (v == 0 || v == 1)) return toString(DynamicsModel(int(v)));
+    if (name == "motion" && v >= 0 && v <= 2) return toString(BodyMotion(int(v)));
     if (name == "floor" || name == "meshUpdate" || name == "regionDamping" ||
         name == "allowSleep" || name == "lattice.fillInterior")
         return v != 0 ? "on" : "off";

@@ -24,12 +24,14 @@ void forEachItem(WorldData& w, size_t n, F&& fn) {
         n, [&](size_t first, size_t last, int slot) { fn(first, last, w.scratch[size_t(slot)]); });
 }
 
-// Runs fn(body, scratch) for each awake body (a sleeping body does not move: world/sleeping.h),
-// split across the worker threads.
+// Runs fn(body, scratch) for each awake body (a sleeping body does not move: world/sleeping.h)
+// and each moving kinematic body (static bodies never move), split across the worker threads.
 template <class F>
 void forEachAwakeBody(WorldData& w, F&& fn) {
-    forEachItem(w, w.awake.size(), [&](size_t first, size_t last, ThreadScratch& scratch) {
-        for (size_t k = first; k < last; ++k) fn(size_t(w.awake[k]), scratch);
+    const size_t awake = w.awake.size();
+    forEachItem(w, awake + w.moving.size(), [&](size_t first, size_t last, ThreadScratch& scratch) {
+        for (size_t k = first; k < last; ++k)
+            fn(size_t(k < awake ? w.awake[k] : w.moving[k - awake]), scratch);
     });
 }
 
@@ -112,7 +114,7 @@ void rebuildDynamicsBatches(WorldData& w) {
     std::map<const BodyModel*, size_t> open; // model -> its batch still filling
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const BodyRecord& r = w.bodies[b];
-        if (r.asleep) continue;
+        if (r.asleep || r.settings.motion != BodyMotion::Dynamic) continue;
         const bool lanes =
             r.model->dynamics == DynamicsModel::ShapeMatching && !r.settings.regionDamping;
         if (lanes) {

@@ -60,6 +60,27 @@ bool parseDynamicsModel(std::string_view text, DynamicsModel& out) {
     return false;
 }
 
+const char* toString(BodyMotion motion) {
+    switch (motion) {
+    case BodyMotion::Dynamic:
+        return "dynamic";
+    case BodyMotion::Static:
+        return "static";
+    case BodyMotion::Kinematic:
+        return "kinematic";
+    }
+    return "?";
+}
+
+bool parseBodyMotion(std::string_view text, BodyMotion& out) {
+    for (BodyMotion m : {BodyMotion::Dynamic, BodyMotion::Static, BodyMotion::Kinematic})
+        if (text == toString(m)) {
+            out = m;
+            return true;
+        }
+    return false;
+}
+
 namespace {
 
 std::string str(double v) {
@@ -162,6 +183,9 @@ void validate(const BodySettings& s) {
     requireFinite("body.position", s.position);
     requireFinite("body.velocity", s.velocity);
     requireFinite("body.angularVelocity", s.angularVelocity);
+    if (s.motion != BodyMotion::Dynamic && s.motion != BodyMotion::Static &&
+        s.motion != BodyMotion::Kinematic)
+        throw InputError("body.motion", "unknown motion (expected dynamic, static or kinematic)");
     const Quat& q = s.rotation;
     const float n = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
     if (!(std::isfinite(n) && n > 1e-12f))
@@ -172,9 +196,9 @@ void validate(const BodySettings& s) {
 namespace detail {
 
 CollisionWorld collisionView(WorldData& w) {
-    return CollisionWorld{w.settings,       w.substep, w.x,         w.v,
-                          w.contactInvMass, w.nodes,   w.boxBounds, w.collision.bodies,
-                          w.collision,      w.workers, w.profile};
+    return CollisionWorld{w.settings,       w.substep,   w.x,         w.v,
+                          w.contactInvMass, w.nodes,     w.boxBounds, w.collision.bodies,
+                          w.planes,         w.collision, w.workers,   w.profile};
 }
 
 void syncCollisionBodies(WorldData& w) {
@@ -191,6 +215,7 @@ void syncCollisionBodies(WorldData& w) {
         c.restitution = r.settings.restitution;
         c.contactRigidity = r.settings.contactRigidity;
         c.asleep = r.asleep;
+        c.immovable = r.asleep || r.settings.motion != BodyMotion::Dynamic;
     }
     CollisionWorld view = collisionView(w);
     rebuildCollisionTopology(view);
@@ -399,6 +424,15 @@ void World::step() {
     const auto frameStart = Clock::now();
     const float dt = w.settings.frameStep / float(w.settings.substeps);
     w.substep = dt;
+    w.moving.clear(); // the kinematic bodies given a motion for this step
+    for (const uint32_t b : w.kinematic) {
+        const BodyRecord& r = w.bodies[b];
+        for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
+            if (lengthSquared(w.v[i]) > 0) {
+                w.moving.push_back(b);
+                break;
+            }
+    }
     timed(prof, Stage::Sleeping, [&] { detail::wakeWithinReach(w); });
     detail::CollisionWorld view = detail::collisionView(w);
     float deepest = 0;
@@ -438,7 +472,13 @@ void World::step() {
     if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
     FFD_CHECK(detail::meshProblem(w).empty(), "after mesh_update: " + detail::meshProblem(w));
     timed(prof, Stage::Sleeping, [&] { detail::fallAsleep(w); });
-    prof.sleepingBodies = int(w.bodies.size() - w.awake.size());
+    for (const uint32_t b : w.moving) { // a kinematic body moves only as far as it is sent
+        const BodyRecord& r = w.bodies[b];
+        std::fill(w.v.begin() + r.firstParticle, w.v.begin() + r.firstParticle + r.particleCount,
+                  Vec3{});
+    }
+    w.moving.clear();
+    prof.sleepingBodies = int(w.sleeping);
     prof.maxContactDepth = deepest;
     prof.total = msSince(frameStart);
     ++w.frame;
@@ -534,14 +574,22 @@ const BodySettings& World::settings(BodyId id) const {
     return get(*state_, id).settings;
 }
 
+namespace {
+bool isDynamic(const WorldData& w, BodyId id) {
+    return get(w, id).settings.motion == BodyMotion::Dynamic;
+}
+} // namespace
+
 void World::applyForce(BodyId id, Vec3 force) {
     requireFinite("force", force);
+    if (!isDynamic(*state_, id)) return; // a collider takes no forces
     wake(*state_, id);
     state_->find(id)->force += force;
 }
 
 void World::applyImpulse(BodyId id, Vec3 impulse) {
     requireFinite("impulse", impulse);
+    if (!isDynamic(*state_, id)) return;
     wake(*state_, id);
     const BodyRecord& r = get(*state_, id);
     const Vec3 dv = impulse / r.mass;
@@ -552,6 +600,7 @@ void World::applyParticleForce(BodyId id, uint32_t particle, Vec3 force) {
     requireFinite("force", force);
     const BodyRecord& r = get(*state_, id);
     requireParticle(r, particle);
+    if (!isDynamic(*state_, id)) return;
     wake(*state_, id);
     state_->particleForce[r.firstParticle + particle] += force;
 }
@@ -567,6 +616,7 @@ void World::translate(BodyId id, Vec3 offset) {
 
 void World::setVelocity(BodyId id, Vec3 velocity) {
     requireFinite("velocity", velocity);
+    if (!isDynamic(*state_, id)) return;
     wake(*state_, id);
     const BodyRecord& r = get(*state_, id);
     for (uint32_t i = 0; i < r.particleCount; ++i) state_->v[r.firstParticle + i] = velocity;
@@ -620,7 +670,7 @@ void World::setSettings(const WorldSettings& settings) {
                            settings.floorHeight != old.floorHeight || settings.sleepSpeed == 0;
     w.settings = settings;
     w.workers.setThreads(settings.threads);
-    if (disturbed && w.awake.size() != w.bodies.size()) {
+    if (disturbed && w.sleeping > 0) {
         for (BodyRecord& r : w.bodies)
             if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
         detail::refreshAwake(w);
@@ -637,12 +687,86 @@ void World::setAwake(BodyId id, bool awake) {
     const uint32_t dense = w.slots[id.index].dense;
     if (awake)
         detail::wakeIsland(w, dense);
-    else if (!r.asleep && r.settings.allowSleep)
+    else if (!r.asleep && r.settings.allowSleep && r.settings.motion == BodyMotion::Dynamic)
         detail::putToSleep(w, &dense, 1);
 }
 
 size_t World::awakeCount() const {
     return state_->awake.size();
+}
+
+void World::setKinematicParticles(BodyId id, std::span<const Vec3> targets) {
+    WorldData& w = *state_;
+    const BodyRecord& r = get(w, id);
+    if (r.settings.motion != BodyMotion::Kinematic)
+        throw InputError("body.motion", std::string("the body is ") + toString(r.settings.motion) +
+                                            " (expected kinematic)");
+    if (targets.size() != r.particleCount)
+        throw InputError("targets", "got " + std::to_string(targets.size()) +
+                                        " targets, the body has " +
+                                        std::to_string(r.particleCount) + " particles");
+    for (uint32_t i = 0; i < r.particleCount; ++i)
+        if (!isFinite(targets[i]))
+            throw InputError("targets", "target " + std::to_string(i) + " is not finite");
+    const float invT = 1.0f / w.settings.frameStep;
+    for (uint32_t i = 0; i < r.particleCount; ++i)
+        w.v[r.firstParticle + i] = (targets[i] - w.x[r.firstParticle + i]) * invT;
+}
+
+void World::setKinematicTarget(BodyId id, Vec3 position, Quat rotation) {
+    requireFinite("position", position);
+    const float n = rotation.w * rotation.w + rotation.x * rotation.x + rotation.y * rotation.y +
+                    rotation.z * rotation.z;
+    if (!(std::isfinite(n) && n > 1e-12f))
+        throw InputError("rotation", "rotation is not a valid quaternion (zero or non-finite)");
+    const BodyRecord& r = get(*state_, id);
+    const Mat3 R = toMat3(normalize(rotation));
+    const std::vector<Vec3>& rest = r.model->lattice.restParticles;
+    std::vector<Vec3> targets(r.particleCount);
+    for (uint32_t p = 0; p < r.particleCount; ++p) targets[p] = R * rest[p] + position;
+    setKinematicParticles(id, targets);
+}
+
+namespace {
+void wakeEverybody(WorldData& w) {
+    if (w.sleeping == 0) return;
+    for (BodyRecord& r : w.bodies)
+        if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
+    detail::refreshAwake(w);
+}
+} // namespace
+
+PlaneId World::addPlane(Vec3 normal, float offset) {
+    requireFinite("plane.normal", normal);
+    if (!std::isfinite(offset))
+        throw InputError("plane.offset", "value " + str(offset) + " is not finite");
+    const float len = length(normal);
+    if (!(len > 1e-12f)) throw InputError("plane.normal", "the normal is zero");
+    WorldData& w = *state_;
+    w.planeSlots.push_back({Plane{normal / len, offset}, true});
+    w.planes.push_back(w.planeSlots.back().first);
+    wakeEverybody(w); // a sleeper the plane cuts must be pushed out of it
+    return PlaneId{uint32_t(w.planeSlots.size() - 1), 1};
+}
+
+bool World::isValid(PlaneId id) const {
+    const WorldData& w = *state_;
+    return id.generation == 1 && id.index < w.planeSlots.size() && w.planeSlots[id.index].second;
+}
+
+bool World::removePlane(PlaneId id) {
+    if (!isValid(id)) return false;
+    WorldData& w = *state_;
+    w.planeSlots[id.index].second = false;
+    w.planes.clear();
+    for (const auto& [plane, live] : w.planeSlots)
+        if (live) w.planes.push_back(plane);
+    wakeEverybody(w); // what held a sleeping body up may be gone
+    return true;
+}
+
+std::vector<Plane> World::planes() const {
+    return state_->planes;
 }
 
 void World::setTaskSystem(std::shared_ptr<TaskSystem> tasks) {

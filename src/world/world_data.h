@@ -96,7 +96,16 @@ struct WorldData {
     uint64_t frame = 0;
 
     std::vector<DynamicsBatch> dynamicsBatches; ///< rebuilt when bodies come, go, sleep or wake
-    std::vector<uint32_t> awake;   ///< dense indices of the awake bodies, in order (same times)
+    std::vector<uint32_t> awake;     ///< dense indices of the awake dynamic bodies, in order
+                                     ///< (same times)
+    uint32_t sleeping = 0;           ///< bodies asleep (same times)
+    std::vector<uint32_t> kinematic; ///< dense indices of the kinematic bodies (same times)
+    /// The kinematic bodies that move in the step in progress (a particle velocity not 0), in
+    /// order: stepped by the node, position and mesh updates beside the awake bodies.
+    std::vector<uint32_t> moving;
+    /// Plane colliders (World::addPlane): slots never reused; `planes` the live ones in order.
+    std::vector<std::pair<Plane, bool>> planeSlots;
+    std::vector<Plane> planes;
     uint32_t nextIsland = 1;       ///< the next island number for bodies falling asleep together
     std::vector<Vec3> frameStartX; ///< particles at the frame's start (awake bodies' ranges)
     std::vector<uint32_t> islandParent; ///< scratch of the sleep stage, per body
