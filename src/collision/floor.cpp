@@ -9,6 +9,27 @@ namespace ffd::detail {
 
 namespace {
 
+// The contact of body b's node `node` (its k-th box's corner `corner`) with the plane
+// dot(normal, p) = offset (the floor or a plane collider), `distance` above it.
+Contact planeContact(const CollisionWorld& w, uint32_t b, uint32_t k, int corner, uint32_t node,
+                     Vec3 normal, float offset, float distance) {
+    const CollisionBody& r = w.bodies[b];
+    const CellBox& box = r.lattice->boxes[k];
+    Contact c;
+    c.bodyA = b;
+    c.nodeA = node;
+    c.normal = normal;
+    c.offset = offset;
+    c.distance = distance;
+    setPushOut(w, r, b, kFloorBody, c);
+    c.friction = r.friction;
+    c.restitution = r.restitution;
+    c.rigidity = r.contactRigidity;
+    makeContactPoint(r.lattice->cellParticles[box.cell].data(), r.firstParticle,
+                     box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
+    return c;
+}
+
 // Calls fn(k, corner, node) for body b's box nodes within the floor's margin (what the body can
 // travel in a substep, plus its skin): its k-th box's corner `corner`, world-wide `node`.
 template <class F>
@@ -68,25 +89,11 @@ void findPlaneContacts(CollisionWorld& w) {
     s.all.resize(start[n]);
     w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
         for (uint32_t b = uint32_t(first); b < last; ++b) {
-            const CollisionBody& r = w.bodies[b];
-            const Lattice& L = *r.lattice;
             size_t at = start[b];
             for (const Plane& plane : w.planes)
                 forNodesNearPlane(w, b, plane, [&](uint32_t k, int corner, uint32_t node) {
-                    const CellBox& box = L.boxes[k];
-                    Contact c;
-                    c.bodyA = b;
-                    c.nodeA = node;
-                    c.normal = plane.normal;
-                    c.offset = plane.offset;
-                    c.distance = dot(plane.normal, w.nodes[node]) - plane.offset;
-                    setPushOut(w, r, b, kFloorBody, c);
-                    c.friction = r.friction;
-                    c.restitution = r.restitution;
-                    c.rigidity = r.contactRigidity;
-                    makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
-                                     box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
-                    s.all[at++] = c;
+                    s.all[at++] = planeContact(w, b, k, corner, node, plane.normal, plane.offset,
+                                               dot(plane.normal, w.nodes[node]) - plane.offset);
                 });
         }
     });
@@ -124,24 +131,10 @@ void findFloorContacts(CollisionWorld& w) {
     const float floorY = w.settings.floorHeight;
     w.workers.forChunks(n, kBodiesPerChunk, [&](size_t first, size_t last, int) {
         for (uint32_t b = uint32_t(first); b < last; ++b) {
-            const CollisionBody& r = w.bodies[b];
-            const Lattice& L = *r.lattice;
             size_t at = start[b];
             forNodesNearFloor(w, b, [&](uint32_t k, int corner, uint32_t node) {
-                const CellBox& box = L.boxes[k];
-                Contact c;
-                c.bodyA = b;
-                c.nodeA = node;
-                c.normal = {0, 1, 0};
-                c.offset = floorY;
-                c.distance = w.nodes[node].y - floorY;
-                setPushOut(w, r, b, kFloorBody, c);
-                c.friction = r.friction;
-                c.restitution = r.restitution;
-                c.rigidity = r.contactRigidity;
-                makeContactPoint(L.cellParticles[box.cell].data(), r.firstParticle,
-                                 box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
-                s.all[at++] = c;
+                s.all[at++] = planeContact(w, b, k, corner, node, {0, 1, 0}, floorY,
+                                           w.nodes[node].y - floorY);
             });
         }
     });

@@ -386,8 +386,9 @@ std::optional<RayHit> castClosest(const World& world, Vec3 origin, Vec3 directio
     Closest best;
     best.t = maxDistance;
     bool found = false;
-    for (const auto& [entry, b] : order) {
-        if (entry > best.t) break;
+    for (const std::pair<float, uint32_t>& candidate : order) {
+        if (candidate.first > best.t) break;
+        const uint32_t b = candidate.second; // a structured binding: not capturable in C++20
         const BodyView body = bodyView(w, b);
         traverse(body, r, best.t, [&](uint32_t tri, const TriangleHit& h) {
             if (!found || best.beatenBy(h.t, b, tri)) {

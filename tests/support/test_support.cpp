@@ -110,32 +110,6 @@ TriangleMesh ball() {
     return m;
 }
 
-TriangleMesh boxMesh(Vec3 h, int n) {
-    TriangleMesh mesh;
-    mesh.name = "box";
-    const int axes[3][2] = {{1, 2}, {2, 0}, {0, 1}}; // the two axes spanning each face
-    for (int axis = 0; axis < 3; ++axis)
-        for (int sign : {-1, 1}) {
-            const uint32_t first = uint32_t(mesh.positions.size());
-            const int u = axes[axis][sign > 0 ? 0 : 1], v = axes[axis][sign > 0 ? 1 : 0];
-            for (int j = 0; j <= n; ++j)
-                for (int i = 0; i <= n; ++i) {
-                    float p[3];
-                    p[axis] = float(sign);
-                    p[u] = -1.0f + 2.0f * float(i) / float(n);
-                    p[v] = -1.0f + 2.0f * float(j) / float(n);
-                    mesh.positions.push_back({p[0] * h.x, p[1] * h.y, p[2] * h.z});
-                }
-            auto at = [&](int i, int j) { return first + uint32_t(j * (n + 1) + i); };
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-                    mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-                }
-        }
-    return mesh;
-}
-
 BodySettings sphereAt(Vec3 position, Vec3 velocity) {
     BodySettings s;
     s.lattice.targetCells = 38;

@@ -93,9 +93,6 @@ std::filesystem::path cliPath();
 /// An icosphere of 2 subdivisions (162 vertices), 1 m across, centred on the origin.
 TriangleMesh ball();
 
-/// A closed box of half extents h, its faces split into n x n quads, outward oriented.
-TriangleMesh boxMesh(Vec3 h, int n);
-
 /// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
 BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 
