@@ -361,6 +361,17 @@ SceneDescription describeScene(const WorldData& w) {
     world("floor", w.settings.floor);
     world("mode", double(w.settings.mode));
     world("meshUpdate", w.settings.meshUpdate);
+    // The plane colliders are part of the scene: a state steps on alike only between the same
+    // planes (their count, then their normals, offsets and removals, by a checksum).
+    uint64_t planes = 0;
+    for (const auto& [plane, live] : w.planeSlots) {
+        const float v[5] = {plane.normal.x, plane.normal.y, plane.normal.z, plane.offset,
+                            live ? 1.0f : 0.0f};
+        planes = planes * 0x100000001B3ull ^
+                 checksum(std::span(reinterpret_cast<const uint8_t*>(v), sizeof v));
+    }
+    world("planes", double(w.planeSlots.size()));
+    world("planes.layout", double(planes >> 11)); // 53 bits: exact in a double
 
     d.bodyNames = {"mesh.vertices",
                    "mesh.triangles",
@@ -425,6 +436,7 @@ void writeScene(const WorldData& w, Writer& out) {
 // A value as the messages show it.
 std::string valueText(const std::string& name, double v) {
     if (name == "mode" && v >= 0 && v <= 3) return toString(CollisionMode(int(v)));
+    if (name == "planes.layout") return "(other normals or offsets: checksum " + num(v) + ")";
     if (name == "model" && (v == 0 || v == 1)) return toString(DynamicsModel(int(v)));
     if (name == "motion" && v >= 0 && v <= 2) return toString(BodyMotion(int(v)));
     if (name == "floor" || name == "meshUpdate" || name == "regionDamping" ||

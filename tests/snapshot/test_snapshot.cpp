@@ -334,6 +334,26 @@ TEST(Snapshot, PinsRoundTripWithTheirHandles) {
     EXPECT_EQ(restored.pin(pin).force, saved.pin(pin).force);
 }
 
+TEST(Snapshot, RefusesAWorldWithOtherPlanes) {
+    auto make = [](int planes, float offset) {
+        World w;
+        w.addBody(ball(), sphereAt({0, 1, 0}));
+        for (int k = 0; k < planes; ++k) w.addPlane(normalize(Vec3{1, 1, 0}), offset);
+        return w;
+    };
+    World saved = make(1, -2.0f);
+    for (int f = 0; f < 10; ++f) saved.step();
+    const Bytes state = saved.saveState();
+    World none = make(0, -2.0f);
+    EXPECT_NE(refusal(none, state).find("planes 1, this world has 0"), std::string::npos)
+        << refusal(none, state);
+    World elsewhere = make(1, -1.0f);
+    EXPECT_NE(refusal(elsewhere, state).find("planes.layout"), std::string::npos)
+        << refusal(elsewhere, state);
+    World same = make(1, -2.0f);
+    EXPECT_EQ(refusal(same, state), "");
+}
+
 // The comparisons above would catch a snapshot that left out any of these: each, reset to what
 // a freshly built world holds after a restore, changes the very next frame.
 TEST(Snapshot, EveryPieceOfTheStateChangesTheNextFrame) {
