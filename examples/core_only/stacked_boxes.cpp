@@ -1,5 +1,6 @@
-// Links the physics core alone (ffdaabb::core): three soft boxes, meshes made in code as an
-// engine would hand them over, dropped onto each other; prints their heights as they settle.
+// Links the physics core alone (ffdaabb::core): two soft boxes, meshes made in code as an
+// engine would hand them over, dropped onto each other; prints their heights as they settle
+// and fall asleep. (Three stacked this way do not stand: docs/LIMITS.md, known problem 5.)
 #include <ffdaabb/world.h>
 
 #include <cstdio>
@@ -39,23 +40,23 @@ ffd::TriangleMesh box(ffd::Vec3 h, int n) {
 
 int main() {
     ffd::World world;
-    ffd::BodyId ids[3];
-    for (int k = 0; k < 3; ++k) {
+    ffd::BodyId ids[2];
+    for (int k = 0; k < 2; ++k) {
         ffd::BodySettings s;
         s.position = {0.05f * float(k), 0.4f + 0.6f * float(k), 0};
         ids[k] = world.addBody(box({0.4f, 0.2f, 0.3f}, 6), s);
     }
-    std::printf(" t (s)   box 1    box 2    box 3   (lowest point, m)\n");
-    for (int frame = 0; frame <= 180; ++frame) {
-        if (frame % 30 == 0)
-            std::printf("%5.2f  %7.3f  %7.3f  %7.3f\n", frame / 60.0, world.bounds(ids[0]).lo.y,
-                        world.bounds(ids[1]).lo.y, world.bounds(ids[2]).lo.y);
+    std::printf(" t (s)   box 1    box 2   (lowest point, m)   awake\n");
+    bool stood = true; // box 2 on box 1 all along, once landed
+    for (int frame = 0; frame <= 1200; ++frame) {
+        const float gap = world.bounds(ids[1]).lo.y - world.bounds(ids[0]).lo.y;
+        if (frame >= 60) stood = stood && world.bounds(ids[0]).lo.y > -0.01f && gap > 0.35f;
+        if (frame % 120 == 0)
+            std::printf("%5.1f  %7.3f  %7.3f   %zu\n", frame / 60.0, world.bounds(ids[0]).lo.y,
+                        world.bounds(ids[1]).lo.y, world.awakeCount());
         world.step();
     }
-    // Resting on the floor and on each other: the boxes end stacked, 0.4 m apart.
-    const float gap1 = world.bounds(ids[1]).lo.y - world.bounds(ids[0]).lo.y;
-    const float gap2 = world.bounds(ids[2]).lo.y - world.bounds(ids[1]).lo.y;
-    const bool stacked = world.bounds(ids[0]).lo.y > -0.01f && gap1 > 0.35f && gap2 > 0.35f;
-    std::printf("%s\n", stacked ? "stacked" : "NOT stacked");
-    return stacked ? 0 : 1;
+    // Resting on the floor and on each other for 20 s: stacked, 0.4 m apart.
+    std::printf("%s\n", stood ? "stacked" : "NOT stacked");
+    return stood ? 0 : 1;
 }
