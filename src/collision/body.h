@@ -75,4 +75,10 @@ struct CollisionWorld {
     Profile& profile;
 };
 
+/// Two bodies that contacts do not move (asleep, static or kinematic): no pairs are made
+/// between them.
+inline bool bothImmovable(const CollisionWorld& w, uint32_t a, uint32_t b) {
+    return w.bodies[a].immovable && w.bodies[b].immovable;
+}
+
 } // namespace ffd::detail

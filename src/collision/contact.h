@@ -333,7 +333,7 @@ struct CollisionState {
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
     ContactList sortScratch;
     size_t objectCount = 0;
-    /// Per body, where its floor contacts start in `all` (findFloorContacts).
+    /// Per body, where its floor or plane contacts start in `all` (findFloorContacts).
     std::vector<size_t> floorStart;
     std::span<const Contact> objectContacts() const { return {all.data(), objectCount}; }
     std::span<const Contact> floorContacts() const {

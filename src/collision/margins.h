@@ -74,6 +74,12 @@ inline void setPushOut(const CollisionWorld& w, const CollisionBody& b, uint32_t
     c.pushedOut = c.tolerated < 0;
 }
 
+/// The least of dot(n, p) over the box's corners: how far along n its lowest corner lies.
+inline float lowestAlong(Vec3 n, const Aabb& box) {
+    return dot(n, Vec3{n.x >= 0 ? box.lo.x : box.hi.x, n.y >= 0 ? box.lo.y : box.hi.y,
+                       n.z >= 0 ? box.lo.z : box.hi.z});
+}
+
 inline float combineFriction(const CollisionBody& a, const CollisionBody& b) {
     return std::sqrt(a.friction * b.friction);
 }

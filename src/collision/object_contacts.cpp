@@ -273,8 +273,8 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     // (marginOf(A, B)), the box pair of its own box and `box` is one to test (emitBoxPairs).
     auto testBox = [&](CollisionState::QueryScratch& q, uint32_t bodyB, uint32_t box,
                        uint32_t bodyA, uint32_t node, Vec3 p, float margin) {
-        if (isWhole(w, bodyA, bodyB)) return; // never in enhanced (pairs left out)
-        if (w.bodies[bodyA].immovable && w.bodies[bodyB].immovable) return; // nor these
+        if (isWhole(w, bodyA, bodyB)) return;       // never in enhanced (pairs left out)
+        if (bothImmovable(w, bodyA, bodyB)) return; // nor these
         ++q.potential;
         if (!w.boxBounds[box].contains(p, margin)) return;
         const uint32_t own = node / 8;

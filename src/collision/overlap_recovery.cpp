@@ -86,11 +86,7 @@ void trackOverlaps(CollisionWorld& w) {
             // The planes (World::addPlane) share the floor's pair: their contacts are its kind.
             for (const Plane& plane : w.planes) {
                 if (below || !r.placed || r.immovable) break;
-                const Vec3 n = plane.normal;
-                const Vec3 low{n.x >= 0 ? r.bounds.lo.x : r.bounds.hi.x,
-                               n.y >= 0 ? r.bounds.lo.y : r.bounds.hi.y,
-                               n.z >= 0 ? r.bounds.lo.z : r.bounds.hi.z};
-                below = dot(n, low) < plane.offset + skinOf(w, r);
+                below = lowestAlong(plane.normal, r.bounds) < plane.offset + skinOf(w, r);
             }
             if (below) added.push_back({b, kFloorBody});
         }

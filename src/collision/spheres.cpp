@@ -13,11 +13,6 @@ namespace ffd::detail {
 
 namespace {
 
-// Two sleeping, static or kinematic bodies are not moved by contacts: they need none.
-bool bothAsleep(const CollisionWorld& w, uint32_t i, uint32_t j) {
-    return w.bodies[i].immovable && w.bodies[j].immovable;
-}
-
 bool spheresOverlap(const CollisionWorld& w, uint32_t i, uint32_t j) {
     const CollisionBody& a = w.bodies[i];
     const CollisionBody& b = w.bodies[j];
@@ -36,7 +31,7 @@ void sphereTestAllPairs(CollisionWorld& w, std::vector<CandidatePair>& out) {
     const uint32_t n = uint32_t(w.bodies.size());
     for (uint32_t i = 0; i < n; ++i)
         for (uint32_t j = i + 1; j < n; ++j)
-            if (!bothAsleep(w, i, j) && spheresOverlap(w, i, j)) out.push_back({i, j});
+            if (!bothImmovable(w, i, j) && spheresOverlap(w, i, j)) out.push_back({i, j});
 }
 
 void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
@@ -74,7 +69,7 @@ void sphereTestSweep(CollisionWorld& w, std::vector<CandidatePair>& out) {
             const uint32_t i = order[k];
             for (size_t m = k + 1; m < n && lo[order[m]] <= hi[i]; ++m) {
                 const uint32_t j = order[m];
-                if (!bothAsleep(w, i, j) && spheresOverlap(w, i, j))
+                if (!bothImmovable(w, i, j) && spheresOverlap(w, i, j))
                     pairs.push_back({std::min(i, j), std::max(i, j)});
             }
         }

@@ -50,7 +50,10 @@ void refreshAwake(WorldData& w) {
     rebuildDynamicsBatches(w);
 }
 
-bool wakeIsland(WorldData& w, uint32_t dense) {
+namespace {
+
+// wakeIsland without refreshAwake (one refresh serves many islands).
+bool wakeWithoutRefresh(WorldData& w, uint32_t dense) {
     BodyRecord& body = w.bodies[dense];
     body.quietTime = 0;
     if (!body.asleep) return false;
@@ -62,8 +65,22 @@ bool wakeIsland(WorldData& w, uint32_t dense) {
         r.quietTime = 0;
         r.halfKick = true; // at rest: its velocity was just set (to 0)
     }
+    return true;
+}
+
+} // namespace
+
+bool wakeIsland(WorldData& w, uint32_t dense) {
+    if (!wakeWithoutRefresh(w, dense)) return false;
     refreshAwake(w);
     return true;
+}
+
+void wakeEverybody(WorldData& w) {
+    if (w.sleeping == 0) return;
+    for (BodyRecord& r : w.bodies)
+        if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
+    refreshAwake(w);
 }
 
 namespace {
@@ -166,9 +183,8 @@ void wakeWithinReach(WorldData& w) {
     if (s.sleepSpeed > 0) w.frameStartX.assign(w.x.begin(), w.x.end());
     const size_t n = w.bodies.size();
     if (w.sleeping == 0) return;
-    if (s.sleepSpeed == 0) { // sleeping was turned off
-        for (BodyRecord& r : w.bodies) r.asleep = false, r.island = 0, r.quietTime = 0;
-        refreshAwake(w);
+    if (s.sleepSpeed == 0) { // sleeping was turned off (World::setSettings wakes everybody)
+        wakeEverybody(w);
         return;
     }
     std::vector<uint8_t> reached(n, 0);
@@ -177,8 +193,10 @@ void wakeWithinReach(WorldData& w) {
         if (role[i] == Sleeper && role[j] != Still) reached[i] = 1;
         if (role[j] == Sleeper && role[i] != Still) reached[j] = 1;
     });
+    bool woke = false;
     for (uint32_t b = 0; b < n; ++b)
-        if (reached[b] && w.bodies[b].asleep) wakeIsland(w, b);
+        if (reached[b] && w.bodies[b].asleep) woke = wakeWithoutRefresh(w, b) || woke;
+    if (woke) refreshAwake(w);
 }
 
 void fallAsleep(WorldData& w) {

@@ -29,6 +29,9 @@ void refreshAwake(WorldData& world);
 /// Returns whether any was asleep (refreshAwake then needed, and done).
 bool wakeIsland(WorldData& world, uint32_t dense);
 
+/// Wakes every sleeping body (what holds them may have changed: gravity, the floor, planes).
+void wakeEverybody(WorldData& world);
+
 /// Puts the bodies of `island` (dense indices) to sleep now: velocities 0, nodes, bounds and
 /// spheres from the current positions and no motion. Then refreshAwake.
 void putToSleep(WorldData& world, const uint32_t* bodies, uint32_t count);

@@ -214,8 +214,6 @@ void syncCollisionBodies(WorldData& w) {
         c.friction = r.settings.friction;
         c.restitution = r.settings.restitution;
         c.contactRigidity = r.settings.contactRigidity;
-        c.asleep = r.asleep;
-        c.immovable = r.asleep || r.settings.motion != BodyMotion::Dynamic;
     }
     CollisionWorld view = collisionView(w);
     rebuildCollisionTopology(view);
@@ -670,11 +668,7 @@ void World::setSettings(const WorldSettings& settings) {
                            settings.floorHeight != old.floorHeight || settings.sleepSpeed == 0;
     w.settings = settings;
     w.workers.setThreads(settings.threads);
-    if (disturbed && w.sleeping > 0) {
-        for (BodyRecord& r : w.bodies)
-            if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
-        detail::refreshAwake(w);
-    }
+    if (disturbed) detail::wakeEverybody(w);
 }
 
 bool World::isAwake(BodyId id) const {
@@ -727,15 +721,6 @@ void World::setKinematicTarget(BodyId id, Vec3 position, Quat rotation) {
     setKinematicParticles(id, targets);
 }
 
-namespace {
-void wakeEverybody(WorldData& w) {
-    if (w.sleeping == 0) return;
-    for (BodyRecord& r : w.bodies)
-        if (r.asleep) r.asleep = false, r.island = 0, r.quietTime = 0, r.halfKick = true;
-    detail::refreshAwake(w);
-}
-} // namespace
-
 PlaneId World::addPlane(Vec3 normal, float offset) {
     requireFinite("plane.normal", normal);
     if (!std::isfinite(offset))
@@ -745,7 +730,7 @@ PlaneId World::addPlane(Vec3 normal, float offset) {
     WorldData& w = *state_;
     w.planeSlots.push_back({Plane{normal / len, offset}, true});
     w.planes.push_back(w.planeSlots.back().first);
-    wakeEverybody(w); // a sleeper the plane cuts must be pushed out of it
+    detail::wakeEverybody(w); // a sleeper the plane cuts must be pushed out of it
     return PlaneId{uint32_t(w.planeSlots.size() - 1), 1};
 }
 
@@ -761,7 +746,7 @@ bool World::removePlane(PlaneId id) {
     w.planes.clear();
     for (const auto& [plane, live] : w.planeSlots)
         if (live) w.planes.push_back(plane);
-    wakeEverybody(w); // what held a sleeping body up may be gone
+    detail::wakeEverybody(w); // what held a sleeping body up may be gone
     return true;
 }
 

@@ -133,7 +133,8 @@ struct WorldData {
 CollisionWorld collisionView(WorldData& world);
 
 /// After bodies came or went: each body's layout and material in the collision state, and the
-/// collision's lookups from nodes and boxes to bodies (collision/pipeline.h).
+/// collision's lookups from nodes and boxes to bodies (collision/pipeline.h); refreshAwake
+/// (world/sleeping.h) then sets who is asleep or immovable.
 void syncCollisionBodies(WorldData& world);
 
 /// Mass-weighted mean over a body's particles of a per-particle quantity (`x`: the centre of
