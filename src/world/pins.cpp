@@ -20,12 +20,12 @@
 #include "world/pins.h"
 
 #include "ffdaabb/error.h"
+#include "world/input_checks.h"
 #include "world/sleeping.h"
 #include "world/world_data.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -36,24 +36,6 @@ using detail::PinSlot;
 using detail::WorldData;
 
 namespace {
-
-std::string num(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
-
-void requireFiniteVec(const char* field, Vec3 v) {
-    if (!isFinite(v))
-        throw InputError(field, "value (" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) +
-                                    ") is not finite (expected finite numbers)");
-}
-
-void requirePinRange(const char* field, float value, double lo, double hi, const char* expected) {
-    if (!(double(value) >= lo && double(value) <= hi))
-        throw InputError(field,
-                         "value " + num(value) + " is out of range (expected " + expected + ")");
-}
 
 const detail::BodyRecord& bodyOf(const WorldData& w, BodyId id) {
     const detail::BodyRecord* r = w.find(id);
@@ -119,15 +101,15 @@ Pin embeddedPin(const detail::BodyRecord& r, BodyId body, const Embedding& e, Ve
 } // namespace
 
 void validate(const PinSettings& s) {
-    requirePinRange("pin.stiffness", s.stiffness, 0.0, 1e12, "N/m, 0 (hard) or 0 < k <= 1e12");
-    requirePinRange("pin.rigidity", s.rigidity, 0.0, 1.0, "0..1");
-    requirePinRange("pin.swingDamping", s.swingDamping, 0.0, 1000.0, "1/s, 0..1000");
-    requirePinRange("pin.maxSpeed", s.maxSpeed, 0.0, 1e6, "m/s, 0 (any) or 0 < v <= 1e6");
+    detail::requireRange("pin.stiffness", s.stiffness, 0.0, 1e12, "N/m, 0 (hard) or 0 < k <= 1e12");
+    detail::requireRange("pin.rigidity", s.rigidity, 0.0, 1.0, "0..1");
+    detail::requireRange("pin.swingDamping", s.swingDamping, 0.0, 1000.0, "1/s, 0..1000");
+    detail::requireRange("pin.maxSpeed", s.maxSpeed, 0.0, 1e6, "m/s, 0 (any) or 0 < v <= 1e6");
 }
 
 PinId World::pinParticle(BodyId body, uint32_t particle, Vec3 target, const PinSettings& s) {
     validate(s);
-    requireFiniteVec("target", target);
+    detail::requireFinite("target", target);
     const detail::BodyRecord& r = bodyOf(*state_, body);
     if (particle >= r.particleCount)
         throw InputError("particle", "index " + std::to_string(particle) +
@@ -143,7 +125,7 @@ PinId World::pinParticle(BodyId body, uint32_t particle, Vec3 target, const PinS
 
 PinId World::pinVertex(BodyId body, uint32_t vertex, Vec3 target, const PinSettings& s) {
     validate(s);
-    requireFiniteVec("target", target);
+    detail::requireFinite("target", target);
     const detail::BodyRecord& r = bodyOf(*state_, body);
     if (vertex >= r.vertexCount)
         throw InputError("vertex", "index " + std::to_string(vertex) +
@@ -154,8 +136,8 @@ PinId World::pinVertex(BodyId body, uint32_t vertex, Vec3 target, const PinSetti
 
 PinId World::pinRestPoint(BodyId body, Vec3 restPoint, Vec3 target, const PinSettings& s) {
     validate(s);
-    requireFiniteVec("restPoint", restPoint);
-    requireFiniteVec("target", target);
+    detail::requireFinite("restPoint", restPoint);
+    detail::requireFinite("target", target);
     const detail::BodyRecord& r = bodyOf(*state_, body);
     Embedding e = embedPoint(r.model->lattice, restPoint);
     // A point outside every cell is held by the nearest point of the nearest cell.
@@ -165,7 +147,7 @@ PinId World::pinRestPoint(BodyId body, Vec3 restPoint, Vec3 target, const PinSet
 
 PinId World::pinPoint(BodyId body, Vec3 point, const PinSettings& s) {
     validate(s);
-    requireFiniteVec("point", point);
+    detail::requireFinite("point", point);
     const detail::BodyRecord& r = bodyOf(*state_, body);
     const Embedding e = detail::embedDeformedPoint(
         r.model->lattice,
@@ -174,7 +156,7 @@ PinId World::pinPoint(BodyId body, Vec3 point, const PinSettings& s) {
 }
 
 void World::setPinTarget(PinId id, Vec3 target) {
-    requireFiniteVec("target", target);
+    detail::requireFinite("target", target);
     const Pin& pin = pinOf(*state_, id);
     if (pin.target != target) detail::wakeIsland(*state_, state_->slots[pin.body.index].dense);
     state_->pins.find(id)->target = target;

@@ -5,6 +5,7 @@
 #include "collision/pipeline.h"
 #include "ffdaabb/error.h"
 #include "util/check.h"
+#include "world/input_checks.h"
 #include "world/settings_table.h"
 #include "world/sleeping.h"
 #include "world/stage_checks.h"
@@ -81,25 +82,10 @@ bool parseBodyMotion(std::string_view text, BodyMotion& out) {
     return false;
 }
 
+using detail::requireFinite;
+using detail::requireRange;
+
 namespace {
-
-std::string str(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
-
-void requireRange(const char* field, double value, double lo, double hi, const char* expected) {
-    if (!(value >= lo && value <= hi))
-        throw InputError(field,
-                         "value " + str(value) + " is out of range (expected " + expected + ")");
-}
-
-void requireFinite(const char* field, Vec3 v) {
-    if (!isFinite(v))
-        throw InputError(field, "value (" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) +
-                                    ") is not finite (expected finite numbers)");
-}
 
 uint64_t fnv1a(uint64_t h, const void* data, size_t bytes) {
     const auto* p = static_cast<const unsigned char*>(data);
@@ -724,7 +710,7 @@ void World::setKinematicTarget(BodyId id, Vec3 position, Quat rotation) {
 PlaneId World::addPlane(Vec3 normal, float offset) {
     requireFinite("plane.normal", normal);
     if (!std::isfinite(offset))
-        throw InputError("plane.offset", "value " + str(offset) + " is not finite");
+        throw InputError("plane.offset", "value " + detail::valueText(offset) + " is not finite");
     const float len = length(normal);
     if (!(len > 1e-12f)) throw InputError("plane.normal", "the normal is zero");
     WorldData& w = *state_;
