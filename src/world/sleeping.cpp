@@ -120,16 +120,6 @@ namespace {
 // kinematic body (a reason to stay awake and to wake, like an awake body).
 enum Role : uint8_t { Sleeper, Awake, Still, Moving };
 
-Role roleOf(const WorldData& w, uint32_t b) {
-    const BodyRecord& r = w.bodies[b];
-    if (r.asleep) return Sleeper;
-    if (r.settings.motion == BodyMotion::Dynamic) return Awake;
-    if (r.settings.motion == BodyMotion::Static) return Still;
-    for (uint32_t i = r.firstParticle; i < r.firstParticle + r.particleCount; ++i)
-        if (lengthSquared(w.v[i]) > 0) return Moving;
-    return Still;
-}
-
 // Each body's reach in a frame: a sleeping body's bounds grown by its skin; an awake body's
 // grown by twice what it can travel in the frame under gravity from its fastest particle's
 // speed (its bounds are a substep old), and by its skin; a collider's by its skin and, moving,
@@ -170,9 +160,15 @@ void forBodiesWithinReach(WorldData& w, const std::vector<Role>& role, F&& fn) {
     }
 }
 
+// Every body's role in the step in progress (the kinematic bodies given a motion for it are
+// WorldData::moving).
 std::vector<Role> roles(const WorldData& w) {
     std::vector<Role> role(w.bodies.size());
-    for (uint32_t b = 0; b < w.bodies.size(); ++b) role[b] = roleOf(w, b);
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
+        const BodyRecord& r = w.bodies[b];
+        role[b] = r.asleep ? Sleeper : r.settings.motion == BodyMotion::Dynamic ? Awake : Still;
+    }
+    for (const uint32_t b : w.moving) role[b] = Moving;
     return role;
 }
 
