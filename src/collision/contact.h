@@ -88,6 +88,8 @@ struct Contact {
     Vec3 tangentImpulse;       ///< |.| <= friction * (rigid + position + normal impulses)
     /// Penetration when detected, metres (>= 0).
     float depth() const { return maxNum(0.0f, -distance); }
+    /// The normal impulse the response applied over the substep, N s: its three phases'.
+    float totalNormalImpulse() const { return rigidImpulse + positionImpulse + normalImpulse; }
 };
 
 /// Storage that leaves the elements a resize adds unwritten, for arrays each of whose new

@@ -57,7 +57,7 @@ void tallyContacts(WorldData& w) {
             t.runs.push_back(ContactRun{key, 0, 0, 0, 0, 0});
         }
         ContactRun& run = t.runs[current];
-        const float impulse = c.rigidImpulse + c.positionImpulse + c.normalImpulse;
+        const float impulse = c.totalNormalImpulse();
         const double onA = flip ? -double(impulse) : double(impulse);
         run.impulse += double(impulse);
         run.vx += onA * double(c.normal.x);

@@ -543,7 +543,7 @@ void World::contacts(std::vector<ContactInfo>& out) const {
         info.point = detail::blend(c.a, w.x);
         info.normal = c.normal;
         info.depth = c.depth();
-        info.impulse = c.rigidImpulse + c.positionImpulse + c.normalImpulse;
+        info.impulse = c.totalNormalImpulse();
         out.push_back(info);
     }
 }
