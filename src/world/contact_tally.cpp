@@ -25,11 +25,6 @@ uint64_t pairKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
 }
 
-BodyId handleOf(const WorldData& w, uint32_t dense) {
-    const BodyRecord& r = w.bodies[dense];
-    return BodyId{r.slot, w.slots[r.slot].generation};
-}
-
 // A body's dense index now, or kFloor for a null handle (the floor); false for a removed body.
 bool denseNow(const WorldData& w, BodyId id, uint32_t& out) {
     if (id.isNull()) {
@@ -87,9 +82,9 @@ void finishContactTally(WorldData& w) {
             count += run.count;
         }
         ContactPair p;
-        p.bodyA = handleOf(w, uint32_t(key >> 32));
+        p.bodyA = w.handleOf(uint32_t(key >> 32));
         const uint32_t b = uint32_t(key);
-        if (b != kFloor) p.bodyB = handleOf(w, b);
+        if (b != kFloor) p.bodyB = w.handleOf(b);
         p.normalImpulse = float(impulse);
         p.impulse = Vec3{float(vx), float(vy), float(vz)};
         p.contactCount = count;

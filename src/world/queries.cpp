@@ -355,7 +355,7 @@ RayHit makeHit(const WorldData& w, const Ray& r, uint32_t dense, uint32_t triang
     const Triangle& t = rec.model->mesh.triangles[triangle];
     const Vec3* v = w.vertices.data() + rec.firstVertex;
     RayHit hit;
-    hit.body = BodyId{rec.slot, w.slots[rec.slot].generation};
+    hit.body = w.handleOf(dense);
     hit.triangle = triangle;
     hit.barycentric = {h.u, h.v, h.w};
     hit.distance = h.t;
@@ -364,9 +364,8 @@ RayHit makeHit(const WorldData& w, const Ray& r, uint32_t dense, uint32_t triang
     return hit;
 }
 
-bool ignored(const BodyRecord& r, const WorldData& w, std::span<const BodyId> ignore) {
-    const BodyId id{r.slot, w.slots[r.slot].generation};
-    return std::find(ignore.begin(), ignore.end(), id) != ignore.end();
+bool ignored(const WorldData& w, uint32_t dense, std::span<const BodyId> ignore) {
+    return std::find(ignore.begin(), ignore.end(), w.handleOf(dense)) != ignore.end();
 }
 
 std::optional<RayHit> castClosest(const World& world, Vec3 origin, Vec3 direction,
@@ -380,7 +379,7 @@ std::optional<RayHit> castClosest(const World& world, Vec3 origin, Vec3 directio
     order.clear();
     for (uint32_t b = 0; b < bounds.size(); ++b) {
         const float t = enterBox(r, bounds[b], maxDistance);
-        if (t >= 0 && (ignore.empty() || !ignored(w.bodies[b], w, ignore))) order.push_back({t, b});
+        if (t >= 0 && (ignore.empty() || !ignored(w, b, ignore))) order.push_back({t, b});
     }
     std::sort(order.begin(), order.end());
     Closest best;
@@ -550,8 +549,7 @@ void bodiesOverlapping(const World& world, const Aabb& box, std::vector<BodyId>&
     const std::vector<Aabb>& bounds = bodyBounds(w);
     for (uint32_t b = 0; b < bounds.size(); ++b) {
         if (!bounds[b].overlaps(box) || !meshMeetsBox(bodyView(w, b), box)) continue;
-        const BodyRecord& r = w.bodies[b];
-        out.push_back(BodyId{r.slot, w.slots[r.slot].generation});
+        out.push_back(w.handleOf(b));
     }
 }
 

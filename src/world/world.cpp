@@ -330,8 +330,7 @@ size_t World::bodyCount() const {
 
 std::vector<BodyId> World::bodies() const {
     std::vector<BodyId> ids;
-    for (const BodyRecord& r : state_->bodies)
-        ids.push_back({r.slot, state_->slots[r.slot].generation});
+    for (uint32_t b = 0; b < state_->bodies.size(); ++b) ids.push_back(state_->handleOf(b));
     return ids;
 }
 
@@ -532,14 +531,10 @@ void World::contacts(std::vector<ContactInfo>& out) const {
     const WorldData& w = *state_;
     out.clear();
     out.reserve(w.collision.all.size());
-    auto handle = [&](uint32_t dense) {
-        const BodyRecord& r = w.bodies[dense];
-        return BodyId{r.slot, w.slots[r.slot].generation};
-    };
     for (const detail::Contact& c : w.collision.all) {
         ContactInfo info;
-        info.bodyA = handle(c.bodyA);
-        if (c.hasB) info.bodyB = handle(c.bodyB);
+        info.bodyA = w.handleOf(c.bodyA);
+        if (c.hasB) info.bodyB = w.handleOf(c.bodyB);
         info.point = detail::blend(c.a, w.x);
         info.normal = c.normal;
         info.depth = c.depth();

@@ -117,6 +117,12 @@ struct WorldData {
     mutable QueryCache queries;         ///< the geometric queries' caches (queries.cpp)
     ContactTally contactTally;          ///< the step's contact pairs and events
 
+    /// The handle of the body at dense index `dense`.
+    BodyId handleOf(uint32_t dense) const {
+        const BodyRecord& r = bodies[dense];
+        return {r.slot, slots[r.slot].generation};
+    }
+
     const BodyRecord* find(BodyId id) const {
         if (id.index >= slots.size()) return nullptr;
         const Slot& s = slots[id.index];
