@@ -259,6 +259,18 @@ public:
     /// Lattice particle positions and velocities (#P).
     std::span<const Vec3> particles(BodyId body) const;
     std::span<const Vec3> velocities(BodyId body) const;
+    /// Every body's entries in one array, body after body in World::bodies() order (the arrays
+    /// the per-body spans above are ranges of): deformed vertices, particle positions and
+    /// velocities. Invalidated like them when bodies come or go or a state is restored.
+    std::span<const Vec3> allVertices() const;
+    std::span<const Vec3> allParticles() const;
+    std::span<const Vec3> allVelocities() const;
+    /// Where a body's entries lie in allVertices() and in allParticles() / allVelocities().
+    struct Ranges {
+        uint32_t firstVertex = 0, vertexCount = 0;
+        uint32_t firstParticle = 0, particleCount = 0;
+    };
+    Ranges ranges(BodyId body) const;
     /// FFD-AABB boundary nodes (#B * 8) as of the last node update.
     std::span<const Vec3> boxNodes(BodyId body) const;
     /// The body's lattice (rest pose, cell boxes, embedding).

@@ -487,6 +487,23 @@ std::span<const Vec3> World::velocities(BodyId id) const {
     return {state_->v.data() + r.firstParticle, r.particleCount};
 }
 
+std::span<const Vec3> World::allVertices() const {
+    return state_->vertices;
+}
+
+std::span<const Vec3> World::allParticles() const {
+    return state_->x;
+}
+
+std::span<const Vec3> World::allVelocities() const {
+    return state_->v;
+}
+
+World::Ranges World::ranges(BodyId id) const {
+    const BodyRecord& r = get(*state_, id);
+    return {r.firstVertex, r.vertexCount, r.firstParticle, r.particleCount};
+}
+
 std::span<const Vec3> World::boxNodes(BodyId id) const {
     const BodyRecord& r = get(*state_, id);
     return {state_->nodes.data() + size_t(r.firstBox) * 8, size_t(r.boxCount) * 8};

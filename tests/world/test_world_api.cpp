@@ -64,6 +64,31 @@ TEST(WorldApi, RemovingABodyKeepsTheOthersIntact) {
         for (const Vec3& p : world.particles(id)) EXPECT_TRUE(isFinite(p));
 }
 
+TEST(WorldApi, TheWholeWorldsArraysHoldEveryBodysRangeInBodyOrder) {
+    World world;
+    std::vector<BodyId> ids;
+    for (int i = 0; i < 3; ++i) ids.push_back(world.addBody(ball(), at({2.0f * float(i), 1, 0})));
+    world.removeBody(ids[1]);
+    ids.push_back(world.addBody(icosphere(1), at({6, 1, 0})));
+    for (int f = 0; f < 10; ++f) world.step();
+    uint32_t vertex = 0, particle = 0;
+    for (const BodyId id : world.bodies()) {
+        const World::Ranges r = world.ranges(id);
+        EXPECT_EQ(r.firstVertex, vertex);
+        EXPECT_EQ(r.firstParticle, particle);
+        EXPECT_EQ(world.allVertices().data() + r.firstVertex, world.vertices(id).data());
+        EXPECT_EQ(r.vertexCount, world.vertices(id).size());
+        EXPECT_EQ(world.allParticles().data() + r.firstParticle, world.particles(id).data());
+        EXPECT_EQ(world.allVelocities().data() + r.firstParticle, world.velocities(id).data());
+        EXPECT_EQ(r.particleCount, world.particles(id).size());
+        vertex += r.vertexCount, particle += r.particleCount;
+    }
+    EXPECT_EQ(world.allVertices().size(), vertex);
+    EXPECT_EQ(world.allParticles().size(), particle);
+    EXPECT_EQ(world.allVelocities().size(), particle);
+    EXPECT_THROW(world.ranges(ids[1]), InputError);
+}
+
 TEST(WorldApi, BodiesOfTheSameMeshShareOneModel) {
     World world;
     const TriangleMesh mesh = ball();
