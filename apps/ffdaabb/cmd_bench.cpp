@@ -153,7 +153,10 @@ void record(ModeResult& m, const World& w) {
 }
 
 SceneResult benchScene(const std::string& name, const BenchOptions& o, int index, int count) {
-    Scene scene = sceneFromOptions(name, o.objects, "", 1, -1);
+    SceneOverrides overrides;
+    if (o.objects != 0) overrides.objects = o.objects;
+    overrides.threads = 1;
+    Scene scene = sceneFromOptions(name, overrides);
     SceneResult r;
     r.name = scene.name;
     r.objects = scene.objectCount();

@@ -26,38 +26,6 @@ struct RunCommandOptions {
     bool quiet = false;
 };
 
-} // namespace
-
-Scene sceneFromOptions(const std::string& name, int objects, const std::string& mode, int threads,
-                       long long seed) {
-    Scene scene = loadScene(name);
-    if (objects != 0) {
-        if (objects < 1 || objects > 100000)
-            throw InputError("--objects", "value " + std::to_string(objects) +
-                                              " is out of range (expected 1..100000)");
-        setObjectCount(scene, objects);
-    }
-    if (!mode.empty() && !parseCollisionMode(mode, scene.world.mode))
-        throw InputError("--mode", "unknown mode \"" + mode +
-                                       "\" (expected enhanced, previous, brute or none)");
-    if (threads >= 0) {
-        const SettingRange& range = *findSettingRange("threads");
-        if (threads > range.max)
-            throw InputError("--threads", "value " + std::to_string(threads) +
-                                              " is out of range (expected " + range.expected + ")");
-        scene.world.threads = threads;
-    }
-    if (seed >= 0) {
-        if (seed > 2147483647)
-            throw InputError("--seed", "value " + std::to_string(seed) +
-                                           " is out of range (expected 0..2147483647)");
-        scene.layout.seed = uint32_t(seed);
-    }
-    return scene;
-}
-
-namespace {
-
 // The bytes of the --load-state file.
 std::vector<uint8_t> readStateFile(const std::string& path) {
     std::error_code ec;

@@ -27,9 +27,4 @@ void addRenderCommands(CLI::App& app, Action& action);
 void addSoakCommand(CLI::App& app, Action& action);
 void addSettingsCommand(CLI::App& app, Action& action);
 
-/// A scene with the overrides shared by run/bench/render/view applied (0, "" or -1: keep the
-/// scene's). Throws InputError naming the flag for a bad value.
-Scene sceneFromOptions(const std::string& name, int objects, const std::string& mode, int threads,
-                       long long seed);
-
 } // namespace ffd::cli

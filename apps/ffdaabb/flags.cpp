@@ -1,5 +1,6 @@
 #include "flags.h"
 #include "commands.h"
+#include "runner.h"
 
 #include "ffdaabb/error.h"
 
@@ -93,16 +94,17 @@ void addSceneFlags(CLI::App* cmd, SceneFlags& f, bool threads) {
 Scene sceneFromFlags(const SceneFlags& f) {
     // Values given are checked here, before the scene is loaded, so that a bad flag is reported
     // as such even when the scene is bad too.
-    const int objects =
-        given(f.objectsOption) ? int(parseInteger("--objects", f.objects, 1, 100000)) : 0;
+    SceneOverrides o;
+    if (given(f.objectsOption)) o.objects = int(parseInteger("--objects", f.objects, 1, 100000));
     CollisionMode mode;
     if (given(f.modeOption) && !parseCollisionMode(f.mode, mode))
         throw InputError("--mode", "unknown mode " + quoted(f.mode) +
                                        " (expected enhanced, previous, brute or none)");
-    const int threads =
-        given(f.threadsOption) ? int(parseIntegerSetting("--threads", f.threads, "threads")) : -1;
-    const long long seed = given(f.seedOption) ? parseInteger("--seed", f.seed, 0, 2147483647) : -1;
-    return sceneFromOptions(f.scene, objects, given(f.modeOption) ? f.mode : "", threads, seed);
+    if (given(f.modeOption)) o.mode = f.mode;
+    if (given(f.threadsOption))
+        o.threads = int(parseIntegerSetting("--threads", f.threads, "threads"));
+    if (given(f.seedOption)) o.seed = parseInteger("--seed", f.seed, 0, 2147483647);
+    return sceneFromOptions(f.scene, o);
 }
 
 void checkOutputPath(const std::string& flag, const std::string& path) {

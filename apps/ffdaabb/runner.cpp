@@ -14,7 +14,34 @@
 
 namespace ffd::cli {
 
-namespace {} // namespace
+Scene sceneFromOptions(const std::string& name, const SceneOverrides& o,
+                       const SceneOverrideNames& names) {
+    Scene scene = loadScene(name);
+    if (o.objects) {
+        if (*o.objects < 1 || *o.objects > 100000)
+            throw InputError(names.objects, "value " + std::to_string(*o.objects) +
+                                                " is out of range (expected 1..100000)");
+        setObjectCount(scene, *o.objects);
+    }
+    if (o.mode && !parseCollisionMode(*o.mode, scene.world.mode))
+        throw InputError(names.mode, "unknown mode \"" + *o.mode +
+                                         "\" (expected enhanced, previous, brute or none)");
+    if (o.threads) {
+        const SettingRange& range = *findSettingRange("threads");
+        if (*o.threads < range.min || *o.threads > range.max)
+            throw InputError(names.threads, "value " + std::to_string(*o.threads) +
+                                                " is out of range (expected " + range.expected +
+                                                ")");
+        scene.world.threads = *o.threads;
+    }
+    if (o.seed) {
+        if (*o.seed < 0 || *o.seed > 2147483647)
+            throw InputError(names.seed, "value " + std::to_string(*o.seed) +
+                                             " is out of range (expected 0..2147483647)");
+        scene.layout.seed = uint32_t(*o.seed);
+    }
+    return scene;
+}
 
 Timings timings(const Profile& p) {
     Timings t{};

@@ -1,5 +1,6 @@
 // Running a scene for N frames and collecting what the stats, the summary and the benchmark
-// tables report. Shared by `ffdaabb run`, `ffdaabb bench` and `ffdaabb soak`.
+// tables report. Shared by `ffdaabb run`, `ffdaabb bench` and `ffdaabb soak`, and by the
+// Python module's `run` (python/), which gives the same statistics.
 #pragma once
 
 #include "ffdaabb/scene.h"
@@ -10,6 +11,7 @@
 #include <array>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,26 @@ Timings timings(const Profile& profile);
 /// total) objects of the JSON the commands write, from one summary (means or medians).
 nlohmann::json stagesJson(const double (&ms)[kTimingCount]);
 nlohmann::json tableColumnsJson(const double (&ms)[kTimingCount]);
+
+/// What run/bench/soak/render/view and the Python module's World.from_scene and run may change
+/// in a scene; each empty one keeps the scene's.
+struct SceneOverrides {
+    std::optional<int> objects;      ///< the total object count (setObjectCount), 1..100000
+    std::optional<std::string> mode; ///< enhanced, previous, brute or none
+    std::optional<int> threads;      ///< WorldSettings::threads
+    std::optional<long long> seed;   ///< the layout's seed, 0..2147483647
+};
+/// How errors name each override: the command line's flags, or the Python arguments.
+struct SceneOverrideNames {
+    const char* objects = "--objects";
+    const char* mode = "--mode";
+    const char* threads = "--threads";
+    const char* seed = "--seed";
+};
+/// The scene `name` (loadScene) with the overrides applied. Throws InputError naming the
+/// override for a bad value.
+Scene sceneFromOptions(const std::string& name, const SceneOverrides& overrides,
+                       const SceneOverrideNames& names = {});
 
 struct RunOptions {
     int frames = 300;
