@@ -1,0 +1,185 @@
+// The content component from Python: the paper's objects and the colliders' shapes as arrays,
+// mesh files, the shipped scenes, and the tables of stages and settings.
+#include "bindings.h"
+
+#include "ffdaabb/error.h"
+#include "ffdaabb/generators.h"
+#include "ffdaabb/mesh_io.h"
+#include "ffdaabb/profile.h"
+#include "ffdaabb/scene.h"
+
+#include <cstring>
+#include <string>
+
+namespace ffd::python {
+
+namespace {
+
+// A Mesh (vertices float32 (V, 3), triangles uint32 (T, 3)) holding copies of the mesh's arrays.
+py::object toArrays(const TriangleMesh& mesh) {
+    py::array_t<float> v({ssize_t(mesh.positions.size()), ssize_t(3)});
+    if (!mesh.positions.empty())
+        std::memcpy(v.mutable_data(), mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+    py::array_t<uint32_t> t({ssize_t(mesh.triangles.size()), ssize_t(3)});
+    if (!mesh.triangles.empty())
+        std::memcpy(t.mutable_data(), mesh.triangles.data(),
+                    mesh.triangles.size() * sizeof(mesh.triangles[0]));
+    return support().attr("Mesh")(v, t);
+}
+
+// Runs a generator without the GIL and returns its mesh as arrays.
+template <class F>
+py::object generated(F&& make) {
+    TriangleMesh mesh;
+    {
+        py::gil_scoped_release released;
+        mesh = make();
+    }
+    return toArrays(mesh);
+}
+
+py::dict rangeDict(const SettingRange& r) {
+    py::dict d;
+    d["key"] = r.key;
+    d["field"] = r.field;
+    d["min"] = r.min;
+    d["max"] = r.max;
+    d["default"] = settingDefault(r);
+    d["integer"] = r.integer;
+    d["unit"] = r.unit;
+    d["expected"] = r.expected;
+    d["doc"] = r.doc;
+    return d;
+}
+
+} // namespace
+
+void bindContent(py::module_& m) {
+    m.def(
+        "sphere",
+        [](int subdivisions) {
+            if (subdivisions < 0 || subdivisions > 8)
+                badArgument("subdivisions", "value " + std::to_string(subdivisions) +
+                                                " is out of range (expected 0..8)");
+            return generated([&] { return icosphere(subdivisions); });
+        },
+        py::arg("subdivisions") = 2,
+        "A unit-radius icosphere (2 subdivisions: the paper's 162 vertices, 320 triangles), as "
+        "a Mesh of arrays.");
+    m.def(
+        "teapot",
+        [](int quadsPerPatch) {
+            if (quadsPerPatch < 1 || quadsPerPatch > 64)
+                badArgument("quads_per_patch", "value " + std::to_string(quadsPerPatch) +
+                                                   " is out of range (expected 1..64)");
+            return generated([&] { return teapot(quadsPerPatch); });
+        },
+        py::arg("quads_per_patch") = 10,
+        "Newell's teapot (10 quads per patch: about the paper's 3,242 vertices).");
+    m.def(
+        "letter",
+        [](const std::string& capital, float height, float depthRatio, float refine) {
+            if (capital.size() != 1)
+                badArgument("capital", "expected one capital letter A-Z, got \"" + capital + "\"");
+            LetterSettings s;
+            s.height = height;
+            s.depthRatio = depthRatio;
+            s.refine = refine;
+            return generated([&] { return letter(capital[0], s); });
+        },
+        py::arg("capital"), py::arg("height") = 1.0f, py::arg("depth_ratio") = 0.25f,
+        py::arg("refine") = 1.0f,
+        "An extruded capital letter (DejaVu Sans Bold), standing on y = 0.");
+    m.def(
+        "dragon",
+        [](size_t targetTriangles, float size) {
+            DragonSettings s;
+            s.targetTriangles = targetTriangles;
+            s.size = size;
+            return generated([&] { return dragon(s); });
+        },
+        py::arg("target_triangles") = 67240, py::arg("size") = 1.0f,
+        "The Stanford dragon simplified to about target_triangles (the paper's Buddha-class "
+        "object); needs the model data the setup fetches.");
+    m.def(
+        "box",
+        [](Vec3 halfExtents, int quadsPerEdge) {
+            return generated([&] { return box(halfExtents, quadsPerEdge); });
+        },
+        py::arg("half_extents"), py::arg("quads_per_edge") = 4, "A box centred at the origin.");
+    m.def(
+        "bowl",
+        [](float radius, float thickness, int segments) {
+            return generated([&] { return bowl(radius, thickness, segments); });
+        },
+        py::arg("radius") = 1.0f, py::arg("thickness") = 0.15f, py::arg("segments") = 32,
+        "A hemispherical bowl, open upwards, rim at y = 0 (a collider).");
+    m.def(
+        "generate",
+        [](const std::string& spec) { return generated([&] { return generate(spec); }); },
+        py::arg("spec"),
+        "A generated object by name, as scene files name them: sphere, icosphere:N, teapot, "
+        "teapot:N, letter:X, dragon, box, bowl.");
+    m.def(
+        "load_mesh",
+        [](const py::object& file) {
+            const std::string path = pathText(file);
+            return generated([&] { return loadMesh(path); });
+        },
+        py::arg("path"),
+        "Reads an .obj, .ply, .stl or .off file (optionally gzipped) as a Mesh of arrays.");
+    m.def(
+        "save_obj",
+        [](const py::object& file, const py::object& vertices, const py::object& triangles) {
+            const std::string path = pathText(file);
+            auto v = rows3(vertices, "vertices");
+            using Indices = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+            Indices t;
+            try {
+                t = py::cast<Indices>(triangles);
+            } catch (const py::cast_error&) {
+                badArgument("triangles", "expected an integer array of shape (T, 3)");
+            }
+            if (t.ndim() != 2 || t.shape(1) != 3)
+                badArgument("triangles", "expected an integer array of shape (T, 3)");
+            TriangleMesh mesh;
+            mesh.positions = points(v);
+            mesh.triangles.resize(size_t(t.shape(0)));
+            for (size_t i = 0; i < mesh.triangles.size() * 3; ++i) {
+                const int64_t index = t.data()[i];
+                if (index < 0 || index >= int64_t(mesh.positions.size()))
+                    badArgument("triangles", "index " + std::to_string(index) + " at triangle " +
+                                                 std::to_string(i / 3) +
+                                                 " is out of range (expected 0.." +
+                                                 std::to_string(mesh.positions.size()) + ")");
+                mesh.triangles[i / 3][i % 3] = uint32_t(index);
+            }
+            py::gil_scoped_release released;
+            saveObj(mesh, path);
+        },
+        py::arg("path"), py::arg("vertices"), py::arg("triangles"),
+        "Writes an OBJ file (through a temporary name: a failed write leaves nothing).");
+    m.def("scene_names", &sceneNames, "The shipped scenes' names (World.from_scene, run).");
+    m.def(
+        "stages",
+        [] {
+            std::vector<std::string> out;
+            for (const StageInfo& s : stageTable()) out.push_back(s.key);
+            return out;
+        },
+        "The step's stages in the order they run (the keys of profile['stage_ms']).");
+    m.def(
+        "settings_table",
+        [] {
+            py::dict d;
+            py::list world, material;
+            for (const SettingRange& r : worldSettingRanges()) world.append(rangeDict(r));
+            for (const SettingRange& r : bodySettingRanges()) material.append(rangeDict(r));
+            d["world"] = world;
+            d["material"] = material;
+            return d;
+        },
+        "The numeric settings' ranges, units and defaults (as `ffdaabb settings` lists them).");
+}
+
+} // namespace ffd::python

@@ -1,0 +1,78 @@
+"""The module gives what the command line gives: state hashes, statistics, error messages."""
+
+import json
+import subprocess
+
+import pytest
+
+import ffdaabb
+
+
+def cli_run(cli: str, tmp_path, *args: str) -> dict:
+    stats = tmp_path / "stats.json"
+    subprocess.run([cli, "run", *args, "--quiet", "--stats", str(stats)], check=True)
+    return json.loads(stats.read_text())
+
+
+@pytest.mark.parametrize(
+    "scene,frames,options",
+    [
+        ("spheres", 90, {}),
+        ("teapots", 40, {"objects": 12, "seed": 5}),
+        ("alphabets", 30, {"objects": 40, "seed": 3, "threads": 2}),
+        ("colliders", 60, {"mode": "previous"}),
+    ],
+)
+def test_the_state_hash_after_n_frames_is_the_command_lines(cli, tmp_path, scene, frames, options):
+    flags = [f"--{k}={v}" for k, v in options.items()]
+    expected = cli_run(cli, tmp_path, "--scene", scene, "--frames", str(frames), *flags)
+    world = ffdaabb.World.from_scene(scene, **options)
+    world.step(frames)
+    assert f"{world.state_hash:016x}" == expected["state_hash"]
+    # And at another thread count.
+    other = ffdaabb.World.from_scene(scene, **{**options, "threads": 3})
+    other.step(frames)
+    assert other.state_hash == world.state_hash
+
+
+def test_run_gives_the_command_lines_statistics(cli, tmp_path):
+    expected = cli_run(cli, tmp_path, "--scene", "spheres", "--frames", "30", "--warmup", "5",
+                       "--measure-every", "10")
+    stats = ffdaabb.run("spheres", frames=30, warmup=5, measure_every=10)
+    assert set(stats) == set(expected)
+    assert set(stats["stage_ms"]) == set(expected["stage_ms"]) == set(ffdaabb.stages()) | {"total"}
+    for key in ("state_hash", "objects", "vertices", "triangles", "cells", "particles",
+                "frames", "warmup_frames", "seed", "mode", "contacts", "floor_contacts",
+                "sleeping_bodies_at_end", "finite"):
+        assert stats[key] == expected[key], key
+    assert stats["interpenetration"] == expected["interpenetration"]
+
+
+def test_the_profile_has_the_command_lines_names():
+    world = ffdaabb.World.from_scene("spheres", objects=20)
+    world.step(30)
+    p = world.profile
+    assert list(p["stage_ms"]) == ffdaabb.stages() + ["total"]
+    assert {"object_collision", "total"} <= set(p["table1_ms"])
+    assert p["stage_ms"]["total"] > 0 and p["frame"] == 30
+    for key in ("candidate_pairs", "potential_pairs", "contacts", "floor_contacts",
+                "sleeping_bodies", "max_contact_depth"):
+        assert key in p
+
+
+def test_input_errors_carry_the_command_lines_message(cli, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"objects": [{"mesh": "sphere", "count": -3}]}')
+    result = subprocess.run([cli, "run", "--scene", str(bad), "--frames", "1", "--quiet"],
+                            capture_output=True, text=True)
+    assert result.returncode == 2
+    printed = result.stderr.strip()
+    assert printed.startswith("ffdaabb: error: ")
+    with pytest.raises(ffdaabb.InputError) as error:
+        ffdaabb.World.from_scene(bad)
+    assert str(error.value) == printed[len("ffdaabb: error: "):]
+    assert isinstance(error.value, ValueError)
+    assert error.value.source and error.value.problem and str(bad) in str(error.value)
+    with pytest.raises(ffdaabb.InputError) as again:
+        ffdaabb.run(str(bad), frames=1)
+    assert str(again.value) == str(error.value)
