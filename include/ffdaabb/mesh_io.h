@@ -14,7 +14,8 @@ namespace ffd {
 /// ignored). All meshes in the file are
 /// merged in file order (node transforms are not applied: these formats have none), polygons
 /// are triangulated, points and lines are dropped, and exactly equal positions are joined (so
-/// an OBJ or STL cube has 8 vertices); nothing else is cleaned up: call cleanup() for that.
+/// an OBJ or STL cube has 8 vertices), the vertices numbered in the order the triangles first
+/// use them (a file's own vertex order is not kept, and vertices no triangle uses are dropped); nothing else is cleaned up: call cleanup() for that.
 ///
 /// Throws InputError whose source() is the path, for a file that is missing, a directory or
 /// not a regular file, unreadable, empty, of an unsupported extension, truncated, malformed

@@ -291,7 +291,7 @@ public:
     void applyImpulse(BodyId body, Vec3 impulse);
     /// A force on one particle during the next step() (for picking and dragging), newtons.
     void applyParticleForce(BodyId body, uint32_t particle, Vec3 force);
-    /// Moves every particle by `offset` and sets a uniform velocity (teleport).
+    /// Moves every particle by `offset` (a teleport: velocities are kept; vertices follow at once).
     void translate(BodyId body, Vec3 offset);
     void setVelocity(BodyId body, Vec3 velocity);
     /// Overwrites particle positions (and zeroes velocities when `resetVelocity`); #P entries.

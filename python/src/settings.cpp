@@ -183,8 +183,9 @@ void bindSettings(py::module_& m) {
     enumField(body, "motion", &BodySettings::motion, &parseBodyMotion,
               "dynamic, static or kinematic", "how the body moves (colliders)");
     plainField(body, "position", &BodySettings::position, "the mesh's origin is placed here, m");
-    plainField(body, "rotation", &BodySettings::rotation,
-               "the mesh rotated about it: a unit quaternion (w, x, y, z)");
+    plainField(
+        body, "rotation", &BodySettings::rotation,
+        "the mesh rotated about it: a quaternion (w, x, y, z), normalised when the body is made");
     plainField(body, "velocity", &BodySettings::velocity, "initial velocity, m/s");
     plainField(body, "angular_velocity", &BodySettings::angularVelocity,
                "initial angular velocity about the centre of mass, rad/s");

@@ -253,8 +253,9 @@ void bindWorld(py::module_& m) {
     cls.def(
         "is_valid", [](const py::object& self, PlaneId id) { return idle(self).world.isValid(id); },
         py::arg("plane"), "Whether a body, pin or plane handle names something alive.");
-    cls.def_property_readonly("body_count",
-                              [](const py::object& self) { return idle(self).world.bodyCount(); });
+    cls.def_property_readonly(
+        "body_count", [](const py::object& self) { return idle(self).world.bodyCount(); },
+        "The number of bodies (len(world)).");
     cls.def("__len__", [](const py::object& self) { return idle(self).world.bodyCount(); });
     cls.def(
         "bodies", [](const py::object& self) { return idle(self).world.bodies(); },
@@ -341,18 +342,22 @@ void bindWorld(py::module_& m) {
     cls.def(
         "centre_of_mass",
         [](const py::object& self, BodyId id) { return idle(self).world.centreOfMass(id); },
-        py::arg("body"));
+        py::arg("body"),
+        "The mass-weighted centre of the body's lattice particles (its centre of mass as the "
+        "dynamics sees it: the lattice covers the mesh's cells, so it may differ from the mesh's "
+        "own centre by part of a cell).");
     cls.def(
         "linear_velocity",
         [](const py::object& self, BodyId id) { return idle(self).world.linearVelocity(id); },
-        py::arg("body"));
+        py::arg("body"), "The mass-weighted mean velocity of the body's particles, m/s.");
     cls.def(
         "bounds",
         [](const py::object& self, BodyId id) {
             const Aabb b = idle(self).world.bounds(id);
             return py::make_tuple(b.lo, b.hi);
         },
-        py::arg("body"), "(lo, hi) of the body's box nodes (they contain its deformed mesh).");
+        py::arg("body"),
+        "The body's bounds as (lo, hi): those of its box nodes, which contain its deformed mesh.");
     cls.def(
         "info",
         [](const py::object& self, BodyId id) {
@@ -378,7 +383,8 @@ void bindWorld(py::module_& m) {
         [](const py::object& self, BodyId id, uint32_t p) {
             return idle(self).world.particleMass(id, p);
         },
-        py::arg("body"), py::arg("particle"));
+        py::arg("body"), py::arg("particle"),
+        "The mass of one lattice particle (its share of the body's mass), kg.");
 
     // Forces and placing.
     cls.def(
@@ -394,17 +400,20 @@ void bindWorld(py::module_& m) {
         [](const py::object& self, BodyId id, uint32_t p, Vec3 f) {
             idle(self).world.applyParticleForce(id, p, f);
         },
-        py::arg("body"), py::arg("particle"), py::arg("force"));
+        py::arg("body"), py::arg("particle"), py::arg("force"),
+        "A force (N) on one particle during the next step() (for dragging a point).");
     cls.def(
         "translate",
         [](const py::object& self, BodyId id, Vec3 offset) {
             idle(self).world.translate(id, offset);
         },
-        py::arg("body"), py::arg("offset"));
+        py::arg("body"), py::arg("offset"),
+        "Moves every particle of the body by `offset` (a teleport: velocities unchanged).");
     cls.def(
         "set_velocity",
         [](const py::object& self, BodyId id, Vec3 v) { idle(self).world.setVelocity(id, v); },
-        py::arg("body"), py::arg("velocity"));
+        py::arg("body"), py::arg("velocity"),
+        "Sets every particle of the body to this velocity, m/s.");
     cls.def(
         "set_particles",
         [](const py::object& self, BodyId id, const py::object& positions, bool resetVelocity) {
@@ -418,7 +427,9 @@ void bindWorld(py::module_& m) {
         "reset_velocity is False.");
     cls.def(
         "update_mesh", [](const py::object& self, BodyId id) { idle(self).world.updateMesh(id); },
-        py::arg("body"));
+        py::arg("body"),
+        "Recomputes the body's vertices and box nodes now (after set_particles, or with "
+        "mesh_update off).");
     cls.def(
         "set_mode",
         [](const py::object& self, const std::string& mode) {
@@ -428,7 +439,7 @@ void bindWorld(py::module_& m) {
                                              "\" (expected enhanced, previous, brute or none)");
             idle(self).world.setMode(cm);
         },
-        py::arg("mode"));
+        py::arg("mode"), "Changes the collision pipeline: enhanced, previous, brute or none.");
 
     // Pins.
     auto pinArgs = [](std::optional<PinSettings> s) { return s.value_or(PinSettings{}); };
@@ -438,22 +449,26 @@ void bindWorld(py::module_& m) {
                   std::optional<PinSettings> s) {
             return idle(self).world.pinParticle(id, particle, target, pinArgs(s));
         },
-        py::arg("body"), py::arg("particle"), py::arg("target"), py::arg("settings") = py::none());
+        py::arg("body"), py::arg("particle"), py::arg("target"), py::arg("settings") = py::none(),
+        "Pins a lattice particle at `target` (hard, or soft with settings.stiffness); returns its "
+        "PinId.");
     cls.def(
         "pin_vertex",
         [pinArgs](const py::object& self, BodyId id, uint32_t vertex, Vec3 target,
                   std::optional<PinSettings> s) {
             return idle(self).world.pinVertex(id, vertex, target, pinArgs(s));
         },
-        py::arg("body"), py::arg("vertex"), py::arg("target"), py::arg("settings") = py::none());
+        py::arg("body"), py::arg("vertex"), py::arg("target"), py::arg("settings") = py::none(),
+        "Pins a mesh vertex at `target`.");
     cls.def(
         "pin_rest_point",
         [pinArgs](const py::object& self, BodyId id, Vec3 rest, Vec3 target,
                   std::optional<PinSettings> s) {
             return idle(self).world.pinRestPoint(id, rest, target, pinArgs(s));
         },
-        py::arg("body"), py::arg("rest_point"), py::arg("target"),
-        py::arg("settings") = py::none());
+        py::arg("body"), py::arg("rest_point"), py::arg("target"), py::arg("settings") = py::none(),
+        "Pins the point of the rest mesh `rest_point` (the mesh's own coordinates, as add_body was "
+        "given) at `target`.");
     cls.def(
         "pin_point",
         [pinArgs](const py::object& self, BodyId id, Vec3 point, std::optional<PinSettings> s) {
@@ -466,21 +481,24 @@ void bindWorld(py::module_& m) {
         [](const py::object& self, PinId pin, Vec3 target) {
             idle(self).world.setPinTarget(pin, target);
         },
-        py::arg("pin"), py::arg("target"));
+        py::arg("pin"), py::arg("target"),
+        "Moves the pin's target over the next step() (in equal parts per substep).");
     cls.def(
         "set_pin_settings",
         [](const py::object& self, PinId pin, const PinSettings& s) {
             idle(self).world.setPinSettings(pin, s);
         },
-        py::arg("pin"), py::arg("settings"));
+        py::arg("pin"), py::arg("settings"), "Changes how the pin holds (PinSettings).");
     cls.def(
         "unpin", [](const py::object& self, PinId pin) { return idle(self).world.unpin(pin); },
-        py::arg("pin"));
+        py::arg("pin"), "Removes a pin; False for a stale handle.");
     cls.def(
         "pin", [](const py::object& self, PinId pin) { return pinDict(idle(self).world.pin(pin)); },
         py::arg("pin"),
         "The pin now: a dict of body, target, point, followed, force (N), lag (m), settings.");
-    cls.def("pins", [](const py::object& self) { return idle(self).world.pins(); });
+    cls.def(
+        "pins", [](const py::object& self) { return idle(self).world.pins(); },
+        "Handles of all pins, in the order they were made (the order they are projected).");
 
     // Colliders.
     cls.def(
@@ -498,7 +516,9 @@ void bindWorld(py::module_& m) {
                 pointsFrom(targets, "targets", w.world.particles(id).size());
             w.world.setKinematicParticles(id, p);
         },
-        py::arg("body"), py::arg("targets"));
+        py::arg("body"), py::arg("targets"),
+        "Moves a kinematic body's particles to these targets ((P, 3)) over the next step(): a "
+        "kinematic body that deforms.");
     cls.def(
         "add_plane",
         [](const py::object& self, Vec3 normal, float offset) {
@@ -509,7 +529,7 @@ void bindWorld(py::module_& m) {
     cls.def(
         "remove_plane",
         [](const py::object& self, PlaneId id) { return idle(self).world.removePlane(id); },
-        py::arg("plane"));
+        py::arg("plane"), "Removes a plane; False for a stale handle.");
     cls.def(
         "planes",
         [](const py::object& self) {
@@ -523,13 +543,16 @@ void bindWorld(py::module_& m) {
     // Sleeping.
     cls.def(
         "is_awake", [](const py::object& self, BodyId id) { return idle(self).world.isAwake(id); },
-        py::arg("body"));
+        py::arg("body"), "Whether the body is awake (static and kinematic bodies always are).");
     cls.def(
         "set_awake",
         [](const py::object& self, BodyId id, bool awake) { idle(self).world.setAwake(id, awake); },
-        py::arg("body"), py::arg("awake"));
-    cls.def_property_readonly("awake_count",
-                              [](const py::object& self) { return idle(self).world.awakeCount(); });
+        py::arg("body"), py::arg("awake"),
+        "Wakes the body and the bodies it fell asleep with (True), or puts it alone to sleep now "
+        "(False).");
+    cls.def_property_readonly(
+        "awake_count", [](const py::object& self) { return idle(self).world.awakeCount(); },
+        "Dynamic bodies awake now.");
 
     // Contacts and queries.
     cls.def(
@@ -649,8 +672,9 @@ void bindWorld(py::module_& m) {
         "state_hash", [](const py::object& self) { return idle(self).world.stateHash(); },
         "FNV-1a hash of every particle's position and velocity (the command line prints it "
         "as 16 hex digits: f'{world.state_hash:016x}').");
-    cls.def_property_readonly("frame",
-                              [](const py::object& self) { return idle(self).world.frame(); });
+    cls.def_property_readonly(
+        "frame", [](const py::object& self) { return idle(self).world.frame(); },
+        "Frames stepped so far (a restored state's frame after restore_state).");
     cls.def(
         "kinetic_energy", [](const py::object& self) { return idle(self).world.kineticEnergy(); },
         "J");
