@@ -11,7 +11,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-# Debian packages: build tools, libraries, and what the tests, benchmarks and renders use.
+# Debian packages: build tools, libraries, and what the tests, benchmarks and renders use; the
+# Python module's headers, pybind11, and venv, pip and pytest to install and test it.
 packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   libgtest-dev libgmock-dev libbenchmark-dev
@@ -20,6 +21,7 @@ packages=(
   libegl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev libglfw3-dev libimgui-dev libstb-dev
   ffmpeg libbullet-dev xvfb xauth python3 python3-numpy python3-matplotlib
   clang libclang-rt-14-dev
+  python3-dev pybind11-dev python3-venv python3-pip python3-pytest
 )
 
 sudo_() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

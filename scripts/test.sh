@@ -4,8 +4,10 @@
 #   scripts/test.sh                  what CI runs (.ci/run): every stage below
 #   scripts/test.sh --preset NAME    one build and its suite only (release, dev, asan or tsan)
 #
-# Stages: setup (packages, models); the release build and the whole suite; the library
-# installed to a temporary prefix with the examples built and run against it; the short soaks
+# Stages: setup (packages, models); the release build and the whole suite (the Python module's
+# pytest suite among it); the library installed to a temporary prefix with the examples built and
+# run against it; the Python package installed with `pip install .` into a virtual environment
+# (build/python-venv) and its examples run with it; the short soaks
 # (600 frames of the spheres and of the alphabets scene, every check); the asan build (ASan +
 # UBSan) and the whole suite under it; the tsan build (ThreadSanitizer) and the threaded tests
 # under it (the step at 1-4 threads, task systems); each libFuzzer target on 100,000 inputs from a fixed seed
@@ -75,18 +77,38 @@ examples() { # the installed package, as a user meets it: find_package(ffdaabb) 
   echo "examples: built against the installed package and ran (the core-only one linking the core and the threading library alone)"
 }
 
+python_package() { # the Python package as a user installs it: `pip install .` into a venv
+  stage "the Python package: pip install . into a virtual environment, its examples"
+  local venv="build/python-venv"
+  [ -x "$venv/bin/python" ] || /usr/bin/python3 -m venv --system-site-packages "$venv"
+  "$venv/bin/pip" install --quiet --no-input --disable-pip-version-check . >"build/python-install.log" 2>&1 ||
+    { tail -n 40 build/python-install.log >&2; echo "pip install . failed" >&2; exit 1; }
+  local out
+  out=$(mktemp -d)
+  (cd "$out" && env -u PYTHONPATH -u FFDAABB_DATA "$root/$venv/bin/python" -c \
+    'import ffdaabb, sys; w = ffdaabb.World.from_scene("spheres"); w.step(30); print("import ffdaabb:", ffdaabb.__file__, f"{w.state_hash:016x}")')
+  for example in examples/python/*.py; do
+    (cd "$out" && MPLBACKEND=Agg env -u PYTHONPATH "$root/$venv/bin/python" "$root/$example" --quick \
+      >"$out/$(basename "$example").log" 2>&1) ||
+      { cat "$out/$(basename "$example").log" >&2; echo "$example failed" >&2; exit 1; }
+    echo "examples/python: $(basename "$example") ran"
+  done
+  rm -rf "$out"
+}
+
 stage setup
 scripts/setup.sh
 
 if [ -n "$preset" ]; then
   suite "$preset"
-  case "$preset" in asan | tsan) ;; *) examples "$preset" ;; esac
+  case "$preset" in asan | tsan) ;; *) examples "$preset"; python_package ;; esac
   stage "all tests passed ($preset)"
   exit 0
 fi
 
 suite release
 examples release
+python_package
 stage "short soaks: spheres and alphabets, 600 frames each, default tolerances; no letter rising faster than 2 m/s after 2 s"
 build/release/bin/ffdaabb soak --scene spheres --frames 600
 build/release/bin/ffdaabb soak --scene alphabets --frames 600 --launch-tolerance 2
