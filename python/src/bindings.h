@@ -3,6 +3,7 @@
 #pragma once
 
 #include "ffdaabb/math.h"
+#include "ffdaabb/mesh.h"
 #include "ffdaabb/world.h"
 
 #include <pybind11/numpy.h>
@@ -110,6 +111,10 @@ S withKeywords(const S& settings, const py::kwargs& kw, const char* function) {
 /// An (N, 3) array of float32 from any array-like; ValueError naming `argument` otherwise.
 py::array_t<float, py::array::c_style | py::array::forcecast> rows3(py::handle source,
                                                                     const char* argument);
+
+/// A mesh from a (V, 3) array of positions and a (T, 3) array of integer indices, each index
+/// checked against V; ValueError naming `vertices` or `triangles` otherwise.
+TriangleMesh meshFromArrays(const py::handle& vertices, const py::handle& triangles);
 
 /// A path or a name given as str or os.PathLike (os.fspath); TypeError otherwise.
 std::string pathText(const py::handle& path);

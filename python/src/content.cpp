@@ -132,28 +132,7 @@ void bindContent(py::module_& m) {
         "save_obj",
         [](const py::object& file, const py::object& vertices, const py::object& triangles) {
             const std::string path = pathText(file);
-            auto v = rows3(vertices, "vertices");
-            using Indices = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-            Indices t;
-            try {
-                t = py::cast<Indices>(triangles);
-            } catch (const py::cast_error&) {
-                badArgument("triangles", "expected an integer array of shape (T, 3)");
-            }
-            if (t.ndim() != 2 || t.shape(1) != 3)
-                badArgument("triangles", "expected an integer array of shape (T, 3)");
-            TriangleMesh mesh;
-            mesh.positions = points(v);
-            mesh.triangles.resize(size_t(t.shape(0)));
-            for (size_t i = 0; i < mesh.triangles.size() * 3; ++i) {
-                const int64_t index = t.data()[i];
-                if (index < 0 || index >= int64_t(mesh.positions.size()))
-                    badArgument("triangles", "index " + std::to_string(index) + " at triangle " +
-                                                 std::to_string(i / 3) +
-                                                 " is out of range (expected 0.." +
-                                                 std::to_string(mesh.positions.size()) + ")");
-                mesh.triangles[i / 3][i % 3] = uint32_t(index);
-            }
+            const TriangleMesh mesh = meshFromArrays(vertices, triangles);
             py::gil_scoped_release released;
             saveObj(mesh, path);
         },

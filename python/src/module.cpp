@@ -86,6 +86,37 @@ std::string pathText(const py::handle& path) {
     return py::str(py::module_::import("os").attr("fspath")(path));
 }
 
+TriangleMesh meshFromArrays(const py::handle& vertices, const py::handle& triangles) {
+    TriangleMesh mesh;
+    mesh.positions = points(rows3(vertices, "vertices"));
+    using Indices = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+    Indices t;
+    try {
+        t = py::cast<Indices>(triangles);
+    } catch (const py::cast_error&) {
+        badArgument("triangles", "expected an integer array of shape (T, 3)");
+    }
+    if (t.ndim() != 2 || t.shape(1) != 3)
+        badArgument("triangles", "expected an integer array of shape (T, 3)");
+    if (py::isinstance<py::array>(triangles)) {
+        const char kind = py::cast<py::array>(triangles).dtype().kind();
+        if (kind != 'i' && kind != 'u')
+            badArgument("triangles",
+                        std::string("expected integers, got an array of kind '") + kind + "'");
+    }
+    mesh.triangles.resize(size_t(t.shape(0)));
+    const int64_t* d = t.data();
+    for (size_t i = 0; i < mesh.triangles.size() * 3; ++i) {
+        if (d[i] < 0 || d[i] >= int64_t(mesh.positions.size()))
+            badArgument("triangles", "index " + std::to_string(d[i]) + " at triangle " +
+                                         std::to_string(i / 3) + " is out of range (expected 0.." +
+                                         std::to_string(mesh.positions.size() - 1) + ")");
+        mesh.triangles[i / 3][i % 3] = uint32_t(d[i]);
+    }
+    mesh.name = "array";
+    return mesh;
+}
+
 PyWorld::PyWorld(World&& w) : world(std::move(w)), layout(support().attr("_Layout")()) {}
 
 void PyWorld::relayout() {

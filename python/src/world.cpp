@@ -47,36 +47,6 @@ void bindHandle(py::module_& m, const char* name, const char* doc) {
         });
 }
 
-TriangleMesh meshFrom(const py::handle& vertices, const py::handle& triangles) {
-    TriangleMesh mesh;
-    mesh.positions = points(rows3(vertices, "vertices"));
-    using Indices = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-    Indices t;
-    try {
-        t = py::cast<Indices>(triangles);
-    } catch (const py::cast_error&) {
-        badArgument("triangles", "expected an integer array of shape (T, 3)");
-    }
-    if (t.ndim() != 2 || t.shape(1) != 3)
-        badArgument("triangles", "expected an integer array of shape (T, 3)");
-    if (py::isinstance<py::array>(triangles)) {
-        const char kind = py::cast<py::array>(triangles).dtype().kind();
-        if (kind != 'i' && kind != 'u')
-            badArgument("triangles",
-                        std::string("expected integers, got an array of kind '") + kind + "'");
-    }
-    mesh.triangles.resize(size_t(t.shape(0)));
-    const int64_t* d = t.data();
-    for (size_t i = 0; i < mesh.triangles.size() * 3; ++i) {
-        if (d[i] < 0 || d[i] > int64_t(UINT32_MAX))
-            badArgument("triangles", "index " + std::to_string(d[i]) + " at triangle " +
-                                         std::to_string(i / 3) + " is out of range");
-        mesh.triangles[i / 3][i % 3] = uint32_t(d[i]);
-    }
-    mesh.name = "array";
-    return mesh;
-}
-
 std::vector<Vec3> pointsFrom(const py::handle& source, const char* argument, size_t expected) {
     auto a = rows3(source, argument);
     if (size_t(a.shape(0)) != expected)
@@ -222,7 +192,7 @@ void bindWorld(py::module_& m) {
            std::optional<BodySettings> settings, const py::kwargs& kw) {
             PyWorld& w = idle(self);
             const BodySettings s = withKeywords(settings.value_or(BodySettings{}), kw, "add_body");
-            const TriangleMesh mesh = meshFrom(vertices, triangles);
+            const TriangleMesh mesh = meshFromArrays(vertices, triangles);
             const BodyId id = [&] {
                 py::gil_scoped_release released;
                 return w.world.addBody(mesh, s);

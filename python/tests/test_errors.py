@@ -54,7 +54,7 @@ def test_bad_meshes_and_arrays_name_the_argument(world):
         world.add_body(v, np.vstack([[-1, 0, 1], t]))
     bad = t.copy()
     bad[5, 1] = 999
-    with pytest.raises(ffdaabb.InputError, match="999"):
+    with pytest.raises(ffdaabb.InputError, match="index 999 at triangle 5"):
         world.add_body(v, bad)
     nan = v.copy()
     nan[7] = np.nan
