@@ -34,7 +34,9 @@ stage() { echo "test.sh: [$(($(date +%s) - start)) s] $*"; }
 
 suite() { # build and run the suite of one preset (tsan: the tests labelled threads)
   stage "$1 build"
-  cmake --preset "$1" >/dev/null
+  # Debian's interpreter: the one setup.sh installs NumPy and pytest for (another python3 may
+  # come first on PATH), so that the module is built for it and ctest's pytest runs with it.
+  cmake --preset "$1" -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
   cmake --build --preset "$1" -j "$jobs"
   stage "$1 suite"
   ctest --preset "$1" -j "$jobs" --timeout 900
