@@ -5,6 +5,7 @@
 #include "ffdaabb/math.h"
 #include "ffdaabb/mesh.h"
 #include "ffdaabb/world.h"
+#include "runner.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -60,6 +61,10 @@ struct type_caster<ffd::Quat> {
 
 namespace ffd::python {
 
+/// The scene `scene` with World.from_scene's and run's overrides, errors naming those
+/// arguments (the command line's own function, cli::sceneFromOptions).
+Scene sceneFor(const std::string& scene, const cli::SceneOverrides& overrides);
+
 /// The pure-Python support module (ffdaabb._support): View, Mesh and the result tuples.
 py::module_ support();
 
@@ -73,6 +78,8 @@ struct PyWorld {
     std::atomic<bool> stepping{false};
 
     explicit PyWorld(World&& w);
+    /// Marks the world as stepping; throws RuntimeError (as checkIdle) if it already is.
+    void beginStep();
     /// Ends the current layout (its views are detached) and starts a new one.
     void relayout();
     /// Throws RuntimeError while step() runs in another thread (a World takes one call at a time).

@@ -125,10 +125,26 @@ void PyWorld::relayout() {
     layout = support().attr("_Layout")();
 }
 
+namespace {
+
+[[noreturn]] void refuseWhileStepping() {
+    throw std::runtime_error("World: step() is running in another thread; a World takes one "
+                             "call at a time");
+}
+
+} // namespace
+
 void PyWorld::checkIdle() const {
-    if (stepping.load())
-        throw std::runtime_error("World: step() is running in another thread; a World takes "
-                                 "one call at a time");
+    if (stepping.load()) refuseWhileStepping();
+}
+
+void PyWorld::beginStep() {
+    bool expected = false;
+    if (!stepping.compare_exchange_strong(expected, true)) refuseWhileStepping();
+}
+
+Scene sceneFor(const std::string& scene, const cli::SceneOverrides& overrides) {
+    return cli::sceneFromOptions(scene, overrides, {"objects", "mode", "threads", "seed"});
 }
 
 template <class T>
@@ -169,7 +185,7 @@ py::dict run(const py::object& sceneName, int frames, int warmup, std::optional<
     nlohmann::json stats;
     {
         py::gil_scoped_release released;
-        const Scene s = cli::sceneFromOptions(scene, o, {"objects", "mode", "threads", "seed"});
+        const Scene s = sceneFor(scene, o);
         cli::RunOptions ro;
         ro.frames = frames;
         ro.warmup = warmup;

@@ -67,10 +67,9 @@ struct SettingsClass {
         });
         cls.def("__eq__", [names](const py::object& a, const py::object& b) {
             if (!py::type::of(a).is(py::type::of(b))) return false;
+            const py::object equal = py::module_::import("numpy").attr("array_equal");
             for (const std::string& n : names) {
-                py::object x = a.attr(n.c_str()), y = b.attr(n.c_str());
-                py::object eq = py::module_::import("numpy").attr("array_equal");
-                if (!eq(x, y).cast<bool>()) return false;
+                if (!equal(a.attr(n.c_str()), b.attr(n.c_str())).cast<bool>()) return false;
             }
             return true;
         });

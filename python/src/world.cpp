@@ -101,10 +101,7 @@ py::dict pinDict(const PinInfo& p) {
 // Steps n frames without the GIL; between frames, takes it back briefly to let Ctrl-C through.
 void stepFrames(PyWorld& w, int n) {
     if (n < 0) badArgument("n", "value " + std::to_string(n) + " is out of range (expected >= 0)");
-    bool expected = false;
-    if (!w.stepping.compare_exchange_strong(expected, true))
-        throw std::runtime_error("World: step() is running in another thread; a World takes "
-                                 "one call at a time");
+    w.beginStep();
     struct Done {
         PyWorld& w;
         ~Done() { w.stepping = false; }
@@ -169,8 +166,7 @@ void bindWorld(py::module_& m) {
             const std::string scene = pathText(sceneName);
             SceneBuild build = [&] {
                 py::gil_scoped_release released;
-                return buildScene(
-                    cli::sceneFromOptions(scene, o, {"objects", "mode", "threads", "seed"}));
+                return buildScene(sceneFor(scene, o));
             }();
             return std::make_unique<PyWorld>(std::move(build.world));
         },
