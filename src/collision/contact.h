@@ -269,8 +269,12 @@ struct CandidatePair {
 struct OverlapPair {
     uint32_t a = 0, b = 0; ///< dense indices, a < b; b = kFloorBody for the floor
     uint8_t whole = 0;     ///< pushed apart as whole bodies, no object contacts (this substep)
-    uint8_t deep = 0;      ///< a contact deeper than the skin (this substep)
-    uint8_t confirmed = 0; ///< ever deep or a centre inside the other: they do overlap
+    uint8_t deep = 0;      ///< an overlapping contact (this substep)
+    uint8_t confirmed = 0; ///< ever deeper than the skin or a centre inside the other
+    /// The way out for a: its overlapping contacts' normals (pointing from b to a) weighted by
+    /// their overlap, summed over the last substep's contacts; zero when it had none.
+    Vec3 out{};
+    float depth = 0; ///< the deepest of those contacts' overlap
 };
 
 /// The depth a box pair claimed in a substep (object_contacts.cpp, emitPairs).
@@ -347,11 +351,11 @@ struct CollisionState {
     std::vector<RigidPoint> rigidPoints;
     SolverScratch solver; ///< scratch of the projection and velocity pass
     // Overlap recovery (overlap_recovery.h).
-    std::vector<OverlapPair> overlaps; ///< remembered pairs, sorted by (a, b)
-    std::vector<uint64_t> wholePairs;  ///< this substep's whole pairs, (a << 32 | b), sorted
-    std::vector<Vec3> overlapCentre;   ///< per body, centre of mass (pairs' bodies only)
-    std::vector<Vec3> overlapPush;     ///< per body, scratch
-    std::vector<float> overlapWeight;  ///< per body, scratch
+    std::vector<OverlapPair> overlaps;   ///< remembered pairs, sorted by (a, b)
+    std::vector<uint64_t> wholePairs;    ///< this substep's whole pairs, (a << 32 | b), sorted
+    std::vector<Vec3> overlapCentre;     ///< per body, centre of mass (pairs' bodies only)
+    std::vector<Vec3> overlapPush[2];    ///< per kind of pair (whole, by contacts), per body
+    std::vector<float> overlapWeight[2]; ///< the same, scratch
     std::vector<Vec3> overlapVelocity, overlapVelocityBefore; ///< per body, scratch
     std::vector<CandidatePair> overlapScratch;
     std::vector<OverlapPair> overlapAdded, overlapMerged; ///< scratch

@@ -48,20 +48,20 @@ inline float sweepMargin(const CollisionWorld& w, const CollisionBody& b) {
 }
 
 // Push-out of deep overlap: what the projections leave of a contact's overlap in this substep
-// (Contact::tolerated), so that it goes at a bounded speed, by moving positions, and the rigid
-// phase leaves the contact out. Removed at once, deep overlap became a dent that shape matching
-// restored at depth / substep, and the rigid phase turned that speed into rigid motion: 200
-// overlapping spheres left at 44 m/s, two spheres created 5 cm into each other at 8 m/s
-// (docs/ALGORITHM.md, "Overlap recovery" and "Push-out"). Pairs placed overlapping
-// (overlap_recovery.h) lose at most WorldSettings::overlapRecoverySpeed x substep per substep;
-// with WorldSettings::pushOutSpeed (0 by default: none) every contact deeper than the skin plus
+// (Contact::tolerated), so that it goes at a bounded speed, and the rigid phase leaves the
+// contact out. Removed at once, deep overlap became a dent that shape matching restored at
+// depth / substep, and the rigid phase turned that speed into rigid motion: 200 overlapping
+// spheres left at 44 m/s, two spheres created 5 cm into each other at 8 m/s (docs/ALGORITHM.md,
+// "Overlap recovery" and "Push-out"). Pairs placed overlapping (overlap_recovery.h) keep all of
+// it while they recover (or, before that, beyond the skin): the recovery moves their bodies
+// apart as rigid wholes, and a contact only stops them sinking further. With
+// WorldSettings::pushOutSpeed (0 by default: none) every contact deeper than the skin plus
 // pushOutSpeed x substep loses at most that depth.
 inline float toleratedOverlap(const CollisionWorld& w, const CollisionBody& b, float distance,
                               uint32_t bodyA, uint32_t bodyB) {
-    // Pairs placed overlapping: at most the recovery speed x substep of overlap per substep.
-    const float recovery = w.settings.overlapRecoverySpeed * w.substep;
-    if (recovery > 0 && distance < -recovery && isRecovering(w, bodyA, bodyB))
-        return distance + recovery;
+    if (distance < 0 && w.settings.overlapRecoverySpeed > 0)
+        if (const OverlapPair* p = recoveringPair(w, bodyA, bodyB))
+            if (p->deep || distance < -skinOf(w, b)) return distance;
     if (w.settings.pushOutSpeed == 0) return 0.0f;
     const float depth = skinOf(w, b) + w.settings.pushOutSpeed * w.substep;
     return distance < -depth ? distance + depth : 0.0f;

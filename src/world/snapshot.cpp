@@ -749,12 +749,16 @@ void writeOverlaps(const WorldData& w, Writer& out) {
         out.u8(p.whole);
         out.u8(p.deep);
         out.u8(p.confirmed);
+        out.f32(p.out.x);
+        out.f32(p.out.y);
+        out.f32(p.out.z);
+        out.f32(p.depth);
     }
 }
 
 void readOverlaps(Reader& in, const WorldData& w, Staged& st) {
     const uint64_t count = in.u64();
-    in.need(count, 11);
+    in.need(count, 27);
     st.overlaps.resize(size_t(count));
     const uint32_t n = uint32_t(w.bodies.size());
     for (size_t i = 0; i < st.overlaps.size(); ++i) {
@@ -764,6 +768,12 @@ void readOverlaps(Reader& in, const WorldData& w, Staged& st) {
         p.whole = in.flag();
         p.deep = in.flag();
         p.confirmed = in.flag();
+        p.out.x = in.f32();
+        p.out.y = in.f32();
+        p.out.z = in.f32();
+        p.depth = in.f32();
+        if (!finite(p.out) || !finite(p.depth) || p.depth < 0)
+            in.malformed("holds a non-finite or negative way out");
         if (!(p.a < n && ((p.b < n && p.a < p.b) || p.b == detail::kFloorBody)))
             in.malformed("holds a pair of bodies out of range");
         auto key = [](const detail::OverlapPair& q) { return uint64_t(q.a) << 32 | q.b; };
@@ -891,7 +901,7 @@ constexpr Section kSections[] = {
     {tagOf("VERT"), 1, writeVertices, readVertices},
     {tagOf("COLB"), 1, writeCollisionBodies, readCollisionBodies},
     {tagOf("CLAM"), 1, writeClaims, readClaims},
-    {tagOf("OVLP"), 1, writeOverlaps, readOverlaps},
+    {tagOf("OVLP"), 2, writeOverlaps, readOverlaps},
     {tagOf("SLEP"), 1, writeSleep, readSleep},
     {tagOf("PINS"), 1, writePins, readPins},
 };

@@ -428,7 +428,7 @@ void World::step() {
         timed(prof, Stage::OverlapRecovery, [&] {
             w.collision.pairs.clear();
             detail::trackOverlaps(view);
-            detail::pushWholePairsApart(view, dt);
+            detail::pushPairsApart(view, dt);
         });
         sphereTestStage(w, view);
         FFD_CHECK(w.settings.mode != CollisionMode::Enhanced || detail::sphereProblem(w).empty(),

@@ -69,6 +69,31 @@ TEST(OverlapRecovery, TranslatedIntoAnotherBodyIsPushedOutGently) {
 // Spheres created at one spot with the default settings: `brute`, `previous` and `enhanced`
 // leave the same pairs out of the node contacts and give bit-identical states, while the pairs
 // are whole and after they have become node contacts.
+// Bodies placed overlapping in free space come apart and stop (docs/LIMITS.md had it as known
+// problem 6): two spheres created 15 cm into each other, gravity and floor off, three
+// rotations. Moved apart by their contacts' particles, the overlap became a dent that shape
+// matching restored with velocity, and they drifted apart for ever (spheres twice the size,
+// 30 cm in: 1.51 m/s each); now they are moved as rigid wholes. Criteria: after 1 s they are
+// apart (centres at least 0.99 m) and neither moves faster than 2 cm/s, and the pair is
+// forgotten.
+TEST(OverlapRecovery, BodiesPlacedOverlappingComeApartAndStop) {
+    for (int turn = 0; turn < 3; ++turn) {
+        WorldSettings ws;
+        ws.gravity = {};
+        ws.floor = false;
+        World world(ws);
+        BodySettings a = sphereAt({0, 0, 0}), b = sphereAt({0.85f, 0, 0});
+        b.rotation = normalize(Quat{0.3f * float(turn), 0.2f, -0.1f * float(turn), 1});
+        const BodyId first = world.addBody(ball(), a);
+        const BodyId second = world.addBody(ball(), b);
+        for (int f = 0; f < 60; ++f) world.step();
+        EXPECT_GT(length(world.centreOfMass(first) - world.centreOfMass(second)), 0.99f)
+            << "turn " << turn;
+        EXPECT_LT(fastestBody(world), 0.02f) << "turn " << turn;
+        EXPECT_EQ(world.profile().overlapPairs, 0) << "turn " << turn;
+    }
+}
+
 TEST(OverlapRecovery, ModesAgree) {
     auto run = [](CollisionMode mode) {
         WorldSettings ws;
@@ -116,21 +141,23 @@ TEST(OverlapRecovery, RemovingABodyKeepsItsPartnersRemembered) {
 
 // Placing a body again (here World::translate by nothing, every frame) while its pairs are
 // remembered keeps their state (once overlapped, a pair stays whole until its centres are a
-// cell apart): the run is bit-identical to one without the calls.
+// cell apart): while the pairs are whole, the run is bit-identical to one without the calls.
+// (Once they are apart, a body placed again touching another is a placed body like any other:
+// its contacts' overlap is moved out as placed overlap, and the runs part.)
 TEST(OverlapRecovery, PlacingAgainKeepsThePairsState) {
     auto run = [](bool replace) {
         World world;
         std::vector<BodyId> ids;
         for (int i = 0; i < 3; ++i)
             ids.push_back(world.addBody(ball(), sphereAt({0.05f * float(i), 0.6f, 0})));
-        int whole = 0;
-        for (int f = 0; f < 90; ++f) {
+        std::vector<uint64_t> hashes; // of the frames with whole pairs
+        for (int f = 0; f < 90 && (f == 0 || world.profile().wholePairs > 0); ++f) {
             if (replace) world.translate(ids[1], {});
             world.step();
-            whole += world.profile().wholePairs;
+            hashes.push_back(world.stateHash());
         }
-        EXPECT_GT(whole, 0);
-        return world.stateHash();
+        EXPECT_GT(hashes.size(), 10u);
+        return hashes;
     };
     EXPECT_EQ(run(true), run(false));
 }

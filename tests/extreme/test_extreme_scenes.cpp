@@ -454,12 +454,14 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // The "200 objects created all overlapping in one spot": 200 spheres (1 m) created with
 // the same centre, just above the floor, random rotations, default settings. Every pair is
 // pushed apart as whole bodies at 2 m/s until neither centre is within a cell of the other's
-// lattice, then the node contacts take the rest (docs/ALGORITHM.md, "Overlap recovery").
-// Criteria: every particle finite every frame; no sphere ever faster than 12 m/s (measured
-// 9.6; spheres thrown off the top of the heap fall); after 2.5 s no two centres closer than
-// 0.9 m (the spheres overlap by at most 10 cm; measured: none closer than 0.97 after 1.7 s),
-// every pair forgotten by the recovery, no vertex more than 1 cm below the floor. Without the
-// recovery, 50 spheres at one spot take 2-3 s per frame and never separate.
+// lattice, then along the way out of its contacts' overlap, by positions only
+// (docs/ALGORITHM.md, "Overlap recovery"). Criteria: every particle finite every frame; no
+// sphere ever faster than 7 m/s (measured 5.8: spheres pushed up onto the heap fall off it; the
+// recovery gave them up to 9.6 while it moved them by their contacts); after 3 s no two
+// centres closer than 0.9 m (the spheres overlap by at most 10 cm; measured: none closer than
+// 0.93 after 2.7 s); after 4 s every pair forgotten by the recovery (measured 3.6 s), no vertex
+// more than 1 cm below the floor. Without the recovery, 50 spheres at one spot take 2-3 s per
+// frame and never separate.
 TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     World world;
     std::mt19937 rng(1);
@@ -471,21 +473,27 @@ TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     }
     float fastest = 0;
     int whole = 0;
-    for (int f = 0; f < 150; ++f) {
+    auto closestCentres = [&] {
+        const std::vector<BodyId> ids = world.bodies();
+        float closest = INFINITY;
+        for (size_t a = 0; a < ids.size(); ++a)
+            for (size_t b = a + 1; b < ids.size(); ++b)
+                closest = std::min(closest,
+                                   length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
+        return closest;
+    };
+    for (int f = 0; f < 240; ++f) {
         world.step();
         ASSERT_TRUE(allFinite(world)) << "frame " << f;
         fastest = std::max(fastest, fastestBody(world));
         whole = std::max(whole, world.profile().wholePairs);
+        if (f == 179) {
+            EXPECT_GT(closestCentres(), 0.9f); // after 3 s
+        }
     }
     EXPECT_EQ(whole, 200 * 199 / 2); // all at once, at first
-    EXPECT_LT(fastest, 12.0f);
-    const std::vector<BodyId> ids = world.bodies();
-    float closest = INFINITY;
-    for (size_t a = 0; a < ids.size(); ++a)
-        for (size_t b = a + 1; b < ids.size(); ++b)
-            closest =
-                std::min(closest, length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
-    EXPECT_GT(closest, 0.9f);
+    EXPECT_LT(fastest, 7.0f);
+    EXPECT_GT(closestCentres(), 0.9f);
     EXPECT_EQ(world.profile().overlapPairs, 0);
     EXPECT_GT(lowestVertex(world), -0.01f);
 }
