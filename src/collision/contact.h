@@ -269,7 +269,7 @@ struct CandidatePair {
 struct OverlapPair {
     uint32_t a = 0, b = 0; ///< dense indices, a < b; b = kFloorBody for the floor
     uint8_t whole = 0;     ///< pushed apart as whole bodies, no object contacts (this substep)
-    uint8_t deep = 0;      ///< an overlapping contact (this substep)
+    uint8_t deep = 0;      ///< recovering: a contact deeper than the skin once, overlapping since
     uint8_t confirmed = 0; ///< ever deeper than the skin or a centre inside the other
     /// The way out for a: its overlapping contacts' normals (pointing from b to a) weighted by
     /// their overlap, summed over the last substep's contacts; zero when it had none.

@@ -597,10 +597,7 @@ TEST(CollisionResponse, FiftySpheresInAColumnSettleWithoutPassingThrough) {
     for (int f = 0; f < 900; ++f) {
         world.step();
         // No pair ever overlaps deeply: the centres of two radius-0.5 spheres stay well apart.
-        for (int a = 0; a < n; ++a)
-            for (int b = a + 1; b < n; ++b)
-                closest = std::min(closest,
-                                   length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
+        closest = std::min(closest, test::closestCentres(world));
         if (f % 100 == 0) {
             for (BodyId id : ids) ASSERT_TRUE(isFinite(world.centreOfMass(id))) << "frame " << f;
         }

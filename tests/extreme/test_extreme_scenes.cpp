@@ -19,6 +19,7 @@
 
 using namespace ffd;
 using ffd::test::ball;
+using ffd::test::closestCentres;
 using ffd::test::deepestInside;
 using ffd::test::fastestBody;
 using ffd::test::sphereAt;
@@ -209,10 +210,7 @@ TEST(ExtremeScenes, FrameStepOneFifteenth) {
         for (int f = 0; f < 300; ++f) {
             world.step();
             ASSERT_TRUE(allFinite(world)) << "frame " << f;
-            for (size_t a = 0; a < ids.size(); ++a)
-                for (size_t b = a + 1; b < ids.size(); ++b)
-                    closest = std::min(
-                        closest, length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
+            closest = std::min(closest, closestCentres(world));
         }
         EXPECT_GT(closest, 0.7f);
         EXPECT_GT(lowestVertex(world), -0.01f);
@@ -473,27 +471,18 @@ TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     }
     float fastest = 0;
     int whole = 0;
-    auto closestCentres = [&] {
-        const std::vector<BodyId> ids = world.bodies();
-        float closest = INFINITY;
-        for (size_t a = 0; a < ids.size(); ++a)
-            for (size_t b = a + 1; b < ids.size(); ++b)
-                closest = std::min(closest,
-                                   length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
-        return closest;
-    };
     for (int f = 0; f < 240; ++f) {
         world.step();
         ASSERT_TRUE(allFinite(world)) << "frame " << f;
         fastest = std::max(fastest, fastestBody(world));
         whole = std::max(whole, world.profile().wholePairs);
         if (f == 179) {
-            EXPECT_GT(closestCentres(), 0.9f); // after 3 s
+            EXPECT_GT(closestCentres(world), 0.9f); // after 3 s
         }
     }
     EXPECT_EQ(whole, 200 * 199 / 2); // all at once, at first
     EXPECT_LT(fastest, 7.0f);
-    EXPECT_GT(closestCentres(), 0.9f);
+    EXPECT_GT(closestCentres(world), 0.9f);
     EXPECT_EQ(world.profile().overlapPairs, 0);
     EXPECT_GT(lowestVertex(world), -0.01f);
 }

@@ -142,6 +142,16 @@ float fastestBody(const World& world) {
     return fastest;
 }
 
+float closestCentres(const World& world) {
+    const std::vector<BodyId> ids = world.bodies();
+    float closest = INFINITY;
+    for (size_t a = 0; a < ids.size(); ++a)
+        for (size_t b = a + 1; b < ids.size(); ++b)
+            closest =
+                std::min(closest, length(world.centreOfMass(ids[a]) - world.centreOfMass(ids[b])));
+    return closest;
+}
+
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol) {
     for (int a = 0; a < 8; ++a)
         for (int b = a + 1; b < 8; ++b)

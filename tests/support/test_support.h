@@ -107,6 +107,9 @@ double deepestInside(const World& world, float referenceSize = 1.0f);
 /// The largest linear velocity of any body, m/s.
 float fastestBody(const World& world);
 
+/// The least distance between two bodies' centres of mass, m (infinity with fewer than two).
+float closestCentres(const World& world);
+
 /// True when p lies in the convex hull of the 8 points (within tol, absolute): for every plane
 /// through three of the points that has all 8 on one side, p must be on that side too.
 bool insideConvexHull(const Vec3 points[8], Vec3 p, float tol);
