@@ -28,14 +28,23 @@ inline constexpr PaperObjectFigures kPaperSphere{"sphere", 162, 320, 38};
 inline constexpr PaperObjectFigures kPaperTeapot{"teapot", 3242, 6400, 84};
 inline constexpr PaperObjectFigures kPaperBuddha{"Buddha", 32328, 67240, 148};
 
+/// The most subdivisions icosphere() accepts (0..8; 8 gives 655,362 vertices).
+inline constexpr int kMaxIcosphereSubdivisions = 8;
+
 /// Unit-radius icosphere centred at the origin: the icosahedron subdivided `subdivisions`
 /// times (each edge split at its midpoint, projected onto the sphere). 2 subdivisions give
-/// exactly 162 vertices and 320 triangles. Closed, outward oriented.
+/// exactly 162 vertices and 320 triangles. Closed, outward oriented. Throws InputError for
+/// subdivisions outside 0..kMaxIcosphereSubdivisions.
 TriangleMesh icosphere(int subdivisions = 2);
+
+/// The most quads per patch teapot() accepts (its weld is checked up to there: at 256 the
+/// closest distinct samples, next to the lid's pole, are 5.5 times the weld tolerance apart).
+inline constexpr int kMaxTeapotQuadsPerPatch = 256;
 
 /// Newell's teapot from its 32 bicubic Bezier patches, each tessellated into n x n quads
 /// (2 n^2 triangles per patch), welded. n = 10 gives 6,400 triangles and about 3,242
-/// vertices. Units as in the original data (about 6.4 wide), +y up, base at y = 0.
+/// vertices. Units as in the original data (about 6.4 wide), +y up, base at y = 0. Throws
+/// InputError for n outside 1..kMaxTeapotQuadsPerPatch.
 TriangleMesh teapot(int quadsPerPatch = 10);
 
 /// Settings for extruded letters.

@@ -38,6 +38,14 @@ py::object generated(F&& make) {
     return toArrays(mesh);
 }
 
+// InputError naming the Python argument when `value` is outside lo..hi: the core's bounds
+// (generators.h), checked here so that the message names the argument as Python spells it.
+void checkRange(const char* argument, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+        badArgument(argument, "value " + std::to_string(value) + " is out of range (expected " +
+                                  std::to_string(lo) + ".." + std::to_string(hi) + ")");
+}
+
 py::dict rangeDict(const SettingRange& r) {
     py::dict d;
     d["key"] = r.key;
@@ -58,9 +66,7 @@ void bindContent(py::module_& m) {
     m.def(
         "sphere",
         [](int subdivisions) {
-            if (subdivisions < 0 || subdivisions > 8)
-                badArgument("subdivisions", "value " + std::to_string(subdivisions) +
-                                                " is out of range (expected 0..8)");
+            checkRange("subdivisions", subdivisions, 0, kMaxIcosphereSubdivisions);
             return generated([&] { return icosphere(subdivisions); });
         },
         py::arg("subdivisions") = 2,
@@ -69,9 +75,7 @@ void bindContent(py::module_& m) {
     m.def(
         "teapot",
         [](int quadsPerPatch) {
-            if (quadsPerPatch < 1 || quadsPerPatch > 64)
-                badArgument("quads_per_patch", "value " + std::to_string(quadsPerPatch) +
-                                                   " is out of range (expected 1..64)");
+            checkRange("quads_per_patch", quadsPerPatch, 1, kMaxTeapotQuadsPerPatch);
             return generated([&] { return teapot(quadsPerPatch); });
         },
         py::arg("quads_per_patch") = 10,

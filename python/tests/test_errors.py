@@ -65,6 +65,21 @@ def test_bad_meshes_and_arrays_name_the_argument(world):
         world.set_particles(body, np.zeros((3, 3)))
 
 
+def test_generator_arguments_take_the_cores_ranges():
+    # The same ranges as the core and the scene files ("teapot:N", "icosphere:N"), and messages
+    # naming the Python argument.
+    assert len(ffdaabb.teapot(100).triangles) == 32 * 2 * 100 * 100
+    assert len(ffdaabb.generate("teapot:100").triangles) == 32 * 2 * 100 * 100
+    with pytest.raises(ffdaabb.InputError, match=r"quads_per_patch: value 257 is out of range \(expected 1..256\)"):
+        ffdaabb.teapot(257)
+    with pytest.raises(ffdaabb.InputError, match=r"quads_per_patch: value 0 is out of range"):
+        ffdaabb.teapot(0)
+    with pytest.raises(ffdaabb.InputError, match=r"subdivisions: value 9 is out of range \(expected 0..8\)"):
+        ffdaabb.sphere(9)
+    with pytest.raises(ffdaabb.InputError, match=r"subdivisions: value -1 is out of range"):
+        ffdaabb.sphere(-1)
+
+
 def test_stale_handles_are_input_errors(world):
     body = world.bodies()[0]
     assert world.remove_body(body) and not world.remove_body(body)

@@ -9,9 +9,10 @@
 namespace ffd {
 
 TriangleMesh icosphere(int subdivisions) {
-    if (subdivisions < 0 || subdivisions > 8)
+    if (subdivisions < 0 || subdivisions > kMaxIcosphereSubdivisions)
         throw InputError("icosphere", "subdivisions = " + std::to_string(subdivisions) +
-                                          " is out of range (expected 0..8)");
+                                          " is out of range (expected 0.." +
+                                          std::to_string(kMaxIcosphereSubdivisions) + ")");
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
     TriangleMesh mesh;
     mesh.name = "icosphere(" + std::to_string(subdivisions) + ")";

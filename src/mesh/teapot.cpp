@@ -184,8 +184,6 @@ constexpr Part kPatchPart[32] = {kBody,  kBody,  kBody,  kBody,  kBody,   kBody,
 // to the lid pole at n = 256, are 5.5e-5 apart.
 constexpr float kWeldTolerance = 1e-5f;
 
-constexpr int kMaxQuadsPerPatch = 256;
-
 std::array<double, 4> bernstein(double t) {
     const double s = 1.0 - t;
     return {s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t};
@@ -208,10 +206,10 @@ Vec3 evaluate(const uint16_t (&patch)[16], double u, double v) {
 } // namespace
 
 TriangleMesh teapot(int quadsPerPatch) {
-    if (quadsPerPatch < 1 || quadsPerPatch > kMaxQuadsPerPatch)
+    if (quadsPerPatch < 1 || quadsPerPatch > kMaxTeapotQuadsPerPatch)
         throw InputError("teapot", "quadsPerPatch = " + std::to_string(quadsPerPatch) +
                                        " is out of range (expected 1.." +
-                                       std::to_string(kMaxQuadsPerPatch) + ")");
+                                       std::to_string(kMaxTeapotQuadsPerPatch) + ")");
     const int n = quadsPerPatch;
     const uint32_t side = uint32_t(n + 1);
 

@@ -251,8 +251,8 @@ std::string generatorProblem(const std::string& spec) {
     };
     if (spec == "sphere" || spec == "teapot" || spec == "dragon" || spec == "box" || spec == "bowl")
         return "";
-    if (spec.rfind("icosphere:", 0) == 0) return suffix("icosphere:", 0, 8);
-    if (spec.rfind("teapot:", 0) == 0) return suffix("teapot:", 1, 256);
+    if (spec.rfind("icosphere:", 0) == 0) return suffix("icosphere:", 0, kMaxIcosphereSubdivisions);
+    if (spec.rfind("teapot:", 0) == 0) return suffix("teapot:", 1, kMaxTeapotQuadsPerPatch);
     if (spec.rfind("letter:", 0) == 0) {
         if (spec.size() == 8 && spec[7] >= 'A' && spec[7] <= 'Z') return "";
         return "\"" + spec + "\" is not a letter generator (expected letter:A..letter:Z)";
