@@ -149,6 +149,15 @@ struct WorldSettings {
     /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
     /// recovery").
     float overlapRecoverySpeed = 2.0f;
+    /// Contacts on the bodies' rigid modes (experimental; 0: off). After the position update,
+    /// before the particle-level projection, Gauss-Seidel sweeps move the bodies of each
+    /// violated contact as rigid wholes, by up to this share of the violation their rigid
+    /// motions made in the move, with static friction at the same level; velocities follow.
+    /// A load then reaches the whole body in the substep it arrives instead of through the
+    /// next substeps' shape matching: bodies stacked on dynamic bodies rest instead of
+    /// buzzing, and a body is carried by friction as a rigid one would be. Not yet the
+    /// default: it changes how balls roll and land (docs/LIMITS.md, known problem 5).
+    float rigidProjection = 0.0f;
     /// Sleeping. A body whose particles' root-mean-square speed (its kinetic energy below
     /// M s^2 / 2) and whose particles' root-mean-square motion over each frame stay below this
     /// speed s (m/s) for sleepTime seconds falls asleep, together with every body it touches,

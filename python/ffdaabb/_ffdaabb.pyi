@@ -72,6 +72,7 @@ class WorldSettings:
     max_separation_speed: float
     push_out_speed: float
     overlap_recovery_speed: float
+    rigid_projection: float
     sleep_speed: float
     sleep_time: float
     gravity: Vec3

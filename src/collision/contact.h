@@ -22,6 +22,9 @@
 //      per substep and a fast body sinks in deep before it stops; the rigid phase stops it at
 //      once while leaving the rest of the impact to deform the body.
 //   (the positions move: x += dt v)
+//   2a. with WorldSettings::rigidProjection > 0, projection on the bodies' rigid modes of the
+//      violation their rigid motions made in the move, with static friction at that level
+//      (projectRigidModes): a load then reaches the whole body in the substep it arrives;
 //   2. position projection, velocities following the correction (dv = dx / dt, position-based
 //      dynamics): what the particles could not do they no longer "want" to do, so no velocity
 //      survives hidden in the constraints' null space (a particle reached only through small
@@ -81,7 +84,8 @@ struct Contact {
     uint32_t boxB = UINT32_MAX; ///< world-wide box index on B
     // Solver state.
     float approachSpeed = 0;   ///< normal velocity before the response
-    float rigidImpulse = 0;    ///< normal impulse of the rigid phase
+    float rigidImpulse = 0;    ///< normal impulse of the rigid phase and rigid projection
+    float rigidFriction = 0;   ///< |tangential impulse| of the rigid projection's friction
     float positionImpulse = 0; ///< normal impulse of the projection (lambda / dt)
     float gap = 0;             ///< separation after the projection, >= 0
     float normalImpulse = 0;   ///< normal impulse of the velocity pass, >= 0
@@ -221,6 +225,9 @@ struct RigidPoint {
     float target = 0;   ///< rigid normal velocity the phase aims at
     float normalImpulse = 0;
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
+    // The projection on rigid modes (projectRigidModes): the arms, the tangential slip of the
+    // bodies' rigid motion in the move, and its static-friction impulse (times dt).
+    Vec3 rA, rB, slip, tangent;
 };
 
 /// Fills mass, centre and inertia of every body whose state is flagged active, and its rigid
@@ -244,6 +251,20 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
                      float maxSeparationSpeed, int iterations, SolverScratch& scratch,
                      Workers& workers);
+
+/// Step 2a (WorldSettings::rigidProjection > 0): Gauss-Seidel projection through the bodies'
+/// rigid modes of the share `share` of the violation (below `tolerated`) that the bodies' rigid
+/// motions made in the move, with static friction (Coulomb-limited by the normal correction):
+/// each sweep moves the two bodies of a contact as rigid wholes (mass, centre and inertia of
+/// their particles), so that a load reaches the whole body in the substep it arrives. The
+/// particles then move by the bodies' moves (rotations exact), velocities following; each
+/// contact's rigidImpulse gains the normal impulse and rigidFriction holds the tangential one,
+/// which the velocity pass's friction limit counts.
+void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& states,
+                       std::vector<RigidPoint>& points, std::span<Vec3> x, std::span<Vec3> v,
+                       std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+                       std::span<const uint32_t> particleCount, float dt, float share,
+                       int iterations, SolverScratch& scratch, Workers& workers);
 
 /// Steps 0 and 2: Gauss-Seidel position projection of C >= tolerated; velocities follow the
 /// corrections unless `v` is empty (pre-stabilisation).

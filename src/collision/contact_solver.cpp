@@ -94,6 +94,28 @@ void selectReachable(std::span<const Contact> contacts, SolverScratch& s, Worker
     });
 }
 
+// The normal's arms, angular responses, inverse masses and effective mass of contact c's
+// rigid point p, its points at pa and pb (pb unused for the floor).
+void setNormalResponse(const Contact& c, std::span<const RigidState> states, Vec3 pa, Vec3 pb,
+                       RigidPoint& p) {
+    const RigidState& A = states[c.bodyA];
+    p.armA = cross(pa - A.centre, c.normal);
+    p.turnA = A.invInertia * p.armA;
+    p.invMassA = A.invMass;
+    float K = A.invMass + dot(p.armA, p.turnA);
+    if (c.hasB) {
+        const RigidState& B = states[c.bodyB];
+        p.armB = cross(pb - B.centre, c.normal);
+        p.turnB = B.invInertia * p.armB;
+        p.invMassB = B.invMass;
+        K += B.invMass + dot(p.armB, p.turnB);
+    } else {
+        p.armB = p.turnB = Vec3{};
+        p.invMassB = 0;
+    }
+    p.invK = K > 0 ? 1.0f / K : 0.0f;
+}
+
 } // namespace
 
 void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
@@ -343,6 +365,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
+        c.rigidFriction = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
         // read as an impact, it would be turned into rigid motion (margins.h, push-out).
         return !c.pushedOut && rigidityOf(c) > 0;
@@ -376,21 +399,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         p.normalImpulse = 0;
         const RigidState& A = states[c.bodyA];
         const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
-        p.armA = cross(pa - A.centre, c.normal);
-        p.turnA = A.invInertia * p.armA;
-        p.invMassA = A.invMass;
-        float K = A.invMass + dot(p.armA, p.turnA);
-        if (c.hasB) {
-            const RigidState& B = states[c.bodyB];
-            p.armB = cross(pb - B.centre, c.normal);
-            p.turnB = B.invInertia * p.armB;
-            p.invMassB = B.invMass;
-            K += B.invMass + dot(p.armB, p.turnB);
-        } else {
-            p.armB = p.turnB = Vec3{};
-            p.invMassB = 0;
-        }
-        p.invK = K > 0 ? 1.0f / K : 0.0f;
+        setNormalResponse(c, states, pa, pb, p);
         // The approach that would close more than the gap this substep, scaled by the
         // rigidity: the rest is left to the particle-level projection (deformation). Normal
         // only: friction is force-limited, so the particle-level pass removes the same momentum
@@ -454,6 +463,148 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
             if (!s.active) continue;
             for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i)
                 v[i] += s.dv + cross(s.dw, x[i] - s.centre);
+            s.dv = s.dw = {};
+        }
+    });
+}
+
+void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& states,
+                       std::vector<RigidPoint>& points, std::span<Vec3> x, std::span<Vec3> v,
+                       std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+                       std::span<const uint32_t> particleCount, float dt, float share,
+                       int iterations, SolverScratch& scratch, Workers& workers) {
+    const SolverSchedule& schedule = scratch.schedule;
+    const size_t bodyCount = firstParticle.size();
+    states.assign(bodyCount, RigidState{});
+    for (const Contact& c : contacts) {
+        states[c.bodyA].active = invMass[firstParticle[c.bodyA]] > 0;
+        if (c.hasB) states[c.bodyB].active = invMass[firstParticle[c.bodyB]] > 0;
+    }
+    workers.forRange(states.size(), [&](size_t first, size_t last, int) {
+        prepareRigidStates(x, v, invMass, firstParticle, particleCount,
+                           std::span(states).subspan(first, last - first), first);
+    });
+    const float invDt = 1.0f / dt;
+    points.resize(contacts.size());
+    // One Gauss-Seidel step for contact n: its separation with the bodies' rigid moves so far
+    // (linear in them), pushed to its tolerated overlap through the two bodies' rigid modes.
+    auto sweep = [&](uint32_t n) {
+        const Contact& c = contacts[n];
+        RigidPoint& p = points[n];
+        if (p.invK == 0) return INFINITY;
+        RigidState& A = states[c.bodyA];
+        float C = p.target + dot(A.dv, c.normal) + dot(A.dw, p.armA);
+        RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
+        if (B) C -= dot(B->dv, c.normal) + dot(B->dw, p.armB);
+        if (C < 0) {
+            const float lambda = -C * p.invK;
+            p.normalImpulse += lambda;
+            A.dv += c.normal * (lambda * p.invMassA);
+            A.dw += p.turnA * lambda;
+            if (B) {
+                B->dv -= c.normal * (lambda * p.invMassB);
+                B->dw -= p.turnB * lambda;
+            }
+        }
+        // Static friction on the rigid modes: the tangential slip of the contact's points
+        // (the rigid motions' in the move and the moves since) undone within the Coulomb
+        // limit of the normal correction, as a load is (position-based friction, Mueller et
+        // al. 2020, "Detailed Rigid Body Simulation with Extended Position Based Dynamics").
+        const float limit = c.friction * p.normalImpulse;
+        if (limit > 0) {
+            Vec3 d = p.slip + A.dv + cross(A.dw, p.rA);
+            if (B) d -= B->dv + cross(B->dw, p.rB);
+            d -= c.normal * dot(d, c.normal);
+            const float slip = length(d);
+            if (slip > 0) {
+                const Vec3 t = d / slip;
+                const Vec3 ta = cross(p.rA, t);
+                float K = p.invMassA + dot(ta, A.invInertia * ta);
+                Vec3 tb{};
+                if (B) {
+                    tb = cross(p.rB, t);
+                    K += p.invMassB + dot(tb, B->invInertia * tb);
+                }
+                if (K > 0) {
+                    Vec3 total = p.tangent - t * (slip / K);
+                    const float size = length(total);
+                    if (size > limit) total = total * (limit / size);
+                    const Vec3 P = total - p.tangent;
+                    p.tangent = total;
+                    A.dv += P * p.invMassA;
+                    A.dw += A.invInertia * cross(p.rA, P);
+                    if (B) {
+                        B->dv -= P * p.invMassB;
+                        B->dw -= B->invInertia * cross(p.rB, P);
+                    }
+                }
+            }
+        }
+        return C;
+    };
+    std::vector<float>& slack = scratch.slack;
+    std::vector<float>& depth = scratch.bodyReach;
+    slack.resize(contacts.size());
+    depth.assign(bodyCount, 0.0f);
+    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
+        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+            const uint32_t n = schedule.order[m];
+            const Contact& c = contacts[n];
+            RigidPoint& p = points[n];
+            const RigidState& A = states[c.bodyA];
+            const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
+            p.normalImpulse = 0;
+            p.tangent = {};
+            p.rA = pa - A.centre;
+            p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
+            // The rigid modes take the share `share` of the violation that the bodies' rigid
+            // motion made in this substep's move (dt times their approach at the contact), no
+            // more: the rest is
+            // deformation (shape matching restoring a dent, bodies created overlapping), which
+            // the particle-level passes push out without throwing the bodies apart (margins.h,
+            // push-out; overlap_recovery.h).
+            auto rigidVelocity = [&](const RigidState& r, const ContactPoint& q, Vec3 at) {
+                return r.active ? r.velocity + cross(r.angularVelocity, at - r.centre)
+                                : blend(q, v); // immovable: its particles move rigidly
+            };
+            Vec3 rel = rigidVelocity(A, c.a, pa);
+            if (c.hasB) rel -= rigidVelocity(states[c.bodyB], c.b, pb);
+            const float C = dot(pa - pb, c.normal) - c.offset;
+            const float closing = maxNum(-dot(rel, c.normal), 0.0f) * dt;
+            p.slip = (rel - c.normal * dot(rel, c.normal)) * dt;
+            p.target = C - minNum(c.tolerated, C + share * closing);
+            setNormalResponse(c, states, pa, pb, p);
+            const float violated = sweep(n);
+            slack[n] = violated;
+            if (!(violated < 0)) continue;
+            depth[c.bodyA] = maxNum(depth[c.bodyA], -violated);
+            if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -violated);
+        }
+    });
+    if (iterations > 1) {
+        selectReachable(contacts, scratch, workers);
+        for (int it = 1; it < iterations; ++it)
+            sweepZones(schedule, scratch.activeEnd, workers,
+                       [&](uint32_t m) { sweep(scratch.active[m]); });
+    }
+    workers.forRange(contacts.size(), [&](size_t first, size_t last, int) {
+        for (size_t n = first; n < last; ++n) {
+            contacts[n].rigidImpulse += points[n].normalImpulse * invDt;
+            contacts[n].rigidFriction = length(points[n].tangent) * invDt;
+        }
+    });
+    // The moves, rotations exact about each body's centre; the velocities follow.
+    workers.forRange(states.size(), [&](size_t first, size_t last, int) {
+        for (size_t b = first; b < last; ++b) {
+            RigidState& s = states[b];
+            if (!s.active) continue;
+            const float angle = length(s.dw);
+            const Mat3 R = angle > 0 ? toMat3(Quat::fromAxisAngle(s.dw, angle)) : Mat3::identity();
+            for (uint32_t i = s.firstParticle; i < s.firstParticle + s.particleCount; ++i) {
+                const Vec3 moved = s.centre + s.dv + R * (x[i] - s.centre);
+                v[i] += (moved - x[i]) * invDt;
+                x[i] = moved;
+            }
             s.dv = s.dw = {};
         }
     });
@@ -539,7 +690,9 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
         const float oldNormal = c.normalImpulse;
         c.normalImpulse = maxNum(oldNormal + (target - vn) / W, 0.0f);
         Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
-        const float limit = c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse);
+        const float limit = maxNum(
+            c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse) - c.rigidFriction,
+            0.0f);
         if (limit > 0) {
             const Vec3 vt = rel - c.normal * vn;
             const Vec3 oldTangent = c.tangentImpulse;

@@ -63,6 +63,10 @@ float respondAfterMove(CollisionWorld& w, float dt) {
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
+    if (w.settings.rigidProjection > 0)
+        projectRigidModes(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
+                          s.bodyParticleCount, dt, w.settings.rigidProjection, iterations, s.solver,
+                          w.workers);
     solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver,
                           w.workers);
     return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,

@@ -32,6 +32,8 @@ constexpr SettingRange kWorld[] = {
      "overlap beyond the skin pushed out at most this fast (0: at once)"},
     {"overlapRecoverySpeed", "overlap_recovery_speed", 0.0, 1e4, "0 (at once)..1e4 m/s", false,
      "m/s", "bodies placed overlapping are pushed apart at most this fast (0: at once)"},
+    {"rigidProjection", "rigid_projection", 0.0, 1.0, "0..1", false, "",
+     "share of the bodies' rigid approach at a contact projected on their rigid modes (0: off)"},
     {"sleepSpeed", "sleep_speed", 0.0, 1e3, "0 (never sleep)..1e3 m/s", false, "m/s",
      "bodies quieter than this (rms particle speed) for sleep_time fall asleep (0: never)"},
     {"sleepTime", "sleep_time", 0.0, 1e6, "seconds, 0..1e6", false, "s",
@@ -43,7 +45,8 @@ const detail::SettingMember<W> kWorldMembers[] = {
     &W::solverIterations, &W::threads,
     &W::sweepThreshold,   &W::maxSeparationSpeed,
     &W::pushOutSpeed,     &W::overlapRecoverySpeed,
-    &W::sleepSpeed,       &W::sleepTime,
+    &W::rigidProjection,  &W::sleepSpeed,
+    &W::sleepTime,
 };
 
 constexpr SettingRange kBody[] = {
