@@ -486,8 +486,9 @@ void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& sta
     });
     const float invDt = 1.0f / dt;
     points.resize(contacts.size());
-    // One Gauss-Seidel step for contact n: its separation with the bodies' rigid moves so far
-    // (linear in them), pushed to its tolerated overlap through the two bodies' rigid modes.
+    // One Gauss-Seidel step for contact n: its violation with the bodies' rigid moves so far
+    // (linear in them; p.target when they are zero) undone through the two bodies' rigid modes,
+    // then its tangential slip within the friction limit.
     auto sweep = [&](uint32_t n) {
         const Contact& c = contacts[n];
         RigidPoint& p = points[n];
