@@ -134,10 +134,15 @@ void SpatialHash::build(Workers* workers) {
         }
     // Pass 2: place, keeping the staged order within each bucket.
     entries_.resize(staged_.size());
+    probes_.resize(staged_.size());
     forParts([&](size_t part) {
         const size_t n0 = staged_.size() * part / parts, n1 = staged_.size() * (part + 1) / parts;
-        for (size_t n = n0; n < n1; ++n)
-            entries_[buckets_[bucketOf_[n]].start + slotOf_[n]] = staged_[n];
+        for (size_t n = n0; n < n1; ++n) {
+            const Entry& e = staged_[n];
+            const uint32_t at = buckets_[bucketOf_[n]].start + slotOf_[n];
+            entries_[at] = e;
+            probes_[at] = {e.position.x, e.position.y, e.position.z, reach_[e.owner]};
+        }
     });
 }
 
