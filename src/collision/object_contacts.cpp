@@ -105,8 +105,34 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         const int ref = m.reference, inc = 1 - m.reference;
         const size_t first = contacts.size();
         float deepest = 0, closing = 0;
+        // A point farther from the reference face than it can close in the substep is no
+        // contact (speculativeReach): its constraint would stay inactive in every phase.
+        // Bounded from the cells' particles, so that the inverse map of B's point is not needed
+        // for the points left out: A's point blended exactly, B's at most its cell's fastest
+        // particle along the normal.
+        const CollisionBody& I = w.bodies[body[inc]];
+        const CollisionBody& R = w.bodies[body[ref]];
+        const auto& incCell =
+            I.lattice->cellParticles[I.lattice->boxes[box[inc] - I.firstBox].cell];
+        const auto& refCell =
+            R.lattice->cellParticles[R.lattice->boxes[box[ref] - R.firstBox].cell];
+        float refSpeed = -INFINITY; // B's fastest particle along the normal
+        for (int j = 0; j < 8; ++j)
+            refSpeed = maxNum(refSpeed, dot(w.v[R.firstParticle + refCell[j]], m.normal));
+        const float skin = s.skin[body[ref]];
         for (int k = 0; k < m.count; ++k) {
             const ManifoldPoint& pt = m.point[k];
+            if (pt.distance > skin) {
+                float weight[8];
+                trilinearWeights(pt.local, weight);
+                Vec3 va{};
+                for (int j = 0; j < 8; ++j) va += w.v[I.firstParticle + incCell[j]] * weight[j];
+                const float approach = maxNum(0.0f, refSpeed - dot(va, m.normal));
+                if (pt.distance > speculativeReach(skin, approach, w.substep)) {
+                    closing = maxNum(closing, approach);
+                    continue;
+                }
+            }
             Contact c = makeObjectContact(w, body[inc], box[inc], pt.local, body[ref], box[ref],
                                           m.normal, pt.distance,
                                           pt.position - m.normal * pt.distance, *view[ref].planes);

@@ -516,16 +516,18 @@ TEST(CollisionModes, SweepPathWithUnevenVelocitiesFindsIdenticalContacts) {
 }
 
 // The case that a sweep window sized from the fastest particle missed: two spheres 3.4 m apart
-// closing at 50 m/s each, one particle of each moving the other way (a spread twice the
-// speed), among 64 others (so phase 1 sweeps). Within one substep their nodes and boxes can
-// meet; every mode must find the same contacts.
+// closing fast, one particle of each moving the other way (a spread twice the speed), among 64
+// others (so phase 1 sweeps). Within one substep their nodes and boxes can meet; every mode
+// must find the same contacts. (At 50 m/s each the margin's bound found contacts, but their
+// points cannot close the 2.4 m between them in a substep, and the speculative reach leaves
+// none; at 100 m/s each they can.)
 TEST(CollisionModes, SweepFindsFastBodiesWithReversedParticles) {
     World world;
     for (int i = 0; i < 64; ++i)
         world.addBody(test::ball(),
                       test::sphereAt({4.0f * float(i % 8), 3.0f, 20.0f + 4.0f * float(i / 8)}));
-    const BodyId a = world.addBody(test::ball(), test::sphereAt({0, 3, 0}, {50, 0, 0}));
-    const BodyId b = world.addBody(test::ball(), test::sphereAt({3.4f, 3, 0}, {-50, 0, 0}));
+    const BodyId a = world.addBody(test::ball(), test::sphereAt({0, 3, 0}, {100, 0, 0}));
+    const BodyId b = world.addBody(test::ball(), test::sphereAt({3.4f, 3, 0}, {-100, 0, 0}));
     detail::WorldData& w = detail::dataOf(world);
     w.substep = 1.0f / 120.0f;
     for (BodyId id : {a, b}) {

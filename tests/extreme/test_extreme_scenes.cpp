@@ -455,11 +455,13 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // lattice, then along the way out of its contacts' overlap, by positions only
 // (docs/ALGORITHM.md, "Overlap recovery"). Criteria: every particle finite every frame; no
 // sphere ever faster than 7 m/s (measured 5.8: spheres pushed up onto the heap fall off it; the
-// recovery gave them up to 9.6 while it moved them by their contacts); after 3 s no two
-// centres closer than 0.9 m (the spheres overlap by at most 10 cm; measured: none closer than
-// 0.93 after 2.7 s); after 4 s every pair forgotten by the recovery (measured 3.6 s), no vertex
-// more than 1 cm below the floor. Without the recovery, 50 spheres at one spot take 2-3 s per
-// frame and never separate.
+// recovery gave them up to 9.6 while it moved them by their contacts); after 4 s every pair
+// forgotten by the recovery, no two centres closer than 0.9 m, no vertex inside another sphere
+// deeper than 1 cm (the mesh measure) and none more than 1 cm below the floor. Apart within 3 s,
+// as the dense-pile issue asks, is not met: tests/known_bugs
+// TwoHundredAtOneSpotApartInThreeSeconds. (Until 2026-11-27 this test checked centres 0.9 m apart
+// after 3 s, which held while a pair was still 5 cm inside each other by the meshes.) Without the
+// recovery, 50 spheres at one spot take 2-3 s per frame and never separate.
 TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     World world;
     std::mt19937 rng(1);
@@ -476,13 +478,11 @@ TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
         ASSERT_TRUE(allFinite(world)) << "frame " << f;
         fastest = std::max(fastest, fastestBody(world));
         whole = std::max(whole, world.profile().wholePairs);
-        if (f == 179) {
-            EXPECT_GT(closestCentres(world), 0.9f); // after 3 s
-        }
     }
     EXPECT_EQ(whole, 200 * 199 / 2); // all at once, at first
     EXPECT_LT(fastest, 7.0f);
     EXPECT_GT(closestCentres(world), 0.9f);
+    EXPECT_LE(deepestInside(world), 0.01);
     EXPECT_EQ(world.profile().overlapPairs, 0);
     EXPECT_GT(lowestVertex(world), -0.01f);
 }

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -34,4 +35,23 @@ TEST(KnownBugs, LightSphereIsNotThrownFromUnderAHeavyOne) {
         }
         EXPECT_LT(fastest, 15.0f);
     }
+}
+
+// 200 spheres created at one spot (tests/extreme TwoHundredAtOneSpotSeparate, the same layout):
+// the dense-pile issue asks them apart within 3 s. Wanted: no vertex inside another sphere
+// deeper than 1 cm (the mesh measure) after 3 s. Today the last whole pairs, pushed apart by
+// positions at the recovery speed, are held back by their neighbours' contacts: over six layouts
+// (rotations from seeds 1-6) the meshes are apart from 2.5 to 3.8 s, and this one is 26 cm deep
+// at 3 s (docs/LIMITS.md, known problem 1).
+TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
+    World world;
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+    for (int i = 0; i < 200; ++i) {
+        BodySettings s = test::sphereAt({0, 0.6f, 0});
+        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
+        world.addBody(ball(), s);
+    }
+    for (int f = 0; f < 180; ++f) world.step();
+    EXPECT_LE(test::deepestInside(world), 0.01);
 }
