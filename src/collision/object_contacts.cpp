@@ -87,10 +87,12 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
         uint32_t body[2];
         BoxView view[2];
+        const uint32_t* cell[2]; // each box's cell's 8 particles, body-local
         for (int k = 0; k < 2; ++k) {
             body[k] = s.boxBody[box[k]];
             const CollisionBody& r = w.bodies[body[k]];
             const CellBox& cb = r.lattice->boxes[box[k] - r.firstBox];
+            cell[k] = r.lattice->cellParticles[cb.cell].data();
             view[k].nodes = &w.nodes[size_t(box[k]) * 8];
             for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
             view[k].planes = &s.planes[box[k]];
@@ -110,15 +112,11 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         // Bounded from the cells' particles, so that the inverse map of B's point is not needed
         // for the points left out: A's point blended exactly, B's at most its cell's fastest
         // particle along the normal.
-        const CollisionBody& I = w.bodies[body[inc]];
-        const CollisionBody& R = w.bodies[body[ref]];
-        const auto& incCell =
-            I.lattice->cellParticles[I.lattice->boxes[box[inc] - I.firstBox].cell];
-        const auto& refCell =
-            R.lattice->cellParticles[R.lattice->boxes[box[ref] - R.firstBox].cell];
+        const uint32_t incFirst = w.bodies[body[inc]].firstParticle;
+        const uint32_t refFirst = w.bodies[body[ref]].firstParticle;
         float refSpeed = -INFINITY; // B's fastest particle along the normal
         for (int j = 0; j < 8; ++j)
-            refSpeed = maxNum(refSpeed, dot(w.v[R.firstParticle + refCell[j]], m.normal));
+            refSpeed = maxNum(refSpeed, dot(w.v[refFirst + cell[ref][j]], m.normal));
         const float skin = s.skin[body[ref]];
         for (int k = 0; k < m.count; ++k) {
             const ManifoldPoint& pt = m.point[k];
@@ -126,7 +124,7 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
                 float weight[8];
                 trilinearWeights(pt.local, weight);
                 Vec3 va{};
-                for (int j = 0; j < 8; ++j) va += w.v[I.firstParticle + incCell[j]] * weight[j];
+                for (int j = 0; j < 8; ++j) va += w.v[incFirst + cell[inc][j]] * weight[j];
                 const float approach = maxNum(0.0f, refSpeed - dot(va, m.normal));
                 if (pt.distance > speculativeReach(skin, approach, w.substep)) {
                     closing = maxNum(closing, approach);
