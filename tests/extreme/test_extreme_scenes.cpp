@@ -464,13 +464,7 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // recovery, 50 spheres at one spot take 2-3 s per frame and never separate.
 TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     World world;
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-    for (int i = 0; i < 200; ++i) {
-        BodySettings s = sphereAt({0, 0.6f, 0});
-        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
-        world.addBody(ball(), s);
-    }
+    test::addTwoHundredAtOneSpot(world);
     float fastest = 0;
     int whole = 0;
     for (int f = 0; f < 240; ++f) {

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -45,13 +44,7 @@ TEST(KnownBugs, LightSphereIsNotThrownFromUnderAHeavyOne) {
 // at 3 s (docs/LIMITS.md, known problem 1).
 TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
     World world;
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-    for (int i = 0; i < 200; ++i) {
-        BodySettings s = test::sphereAt({0, 0.6f, 0});
-        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
-        world.addBody(ball(), s);
-    }
+    test::addTwoHundredAtOneSpot(world);
     for (int f = 0; f < 180; ++f) world.step();
     EXPECT_LE(test::deepestInside(world), 0.01);
 }

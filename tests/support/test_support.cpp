@@ -8,6 +8,7 @@
 #include <csignal>
 #include <fcntl.h>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -126,6 +127,16 @@ BodyId addHeavyOnLight(World& world, float offset) {
     s.density = 10000;
     world.addBody(ball(), s);
     return light;
+}
+
+void addTwoHundredAtOneSpot(World& world) {
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+    for (int i = 0; i < 200; ++i) {
+        BodySettings s = sphereAt({0, 0.6f, 0});
+        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
+        world.addBody(ball(), s);
+    }
 }
 
 double deepestInside(const World& world, float referenceSize) {
