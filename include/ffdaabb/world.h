@@ -131,11 +131,12 @@ struct WorldSettings {
     bool meshUpdate = true;  ///< update embedded mesh vertices at the end of each frame
     int sweepThreshold = 64; ///< bodies above which sphere pairs use sort-and-sweep
     /// Bound (m/s) on how fast the rigid impact phase may push two bodies' rigid motions apart
-    /// at a contact; 0: no bound. Set it (about 2) for scenes that create bodies overlapping or
-    /// throw bodies from piles: without it, deformation speed of crushed bodies is turned into
-    /// rigid motion and throws them apart at tens of m/s. Lower bounds let impacts sink deeper
-    /// (docs/ALGORITHM.md, section 5, "Separation bound").
-    float maxSeparationSpeed = 0.0f;
+    /// at a contact; 0: no bound. Particle velocity at a contact can be deformation (a dent being
+    /// restored, a light body squeezed, bodies created overlapping): without the bound the phase
+    /// turns it into rigid motion and throws such bodies from piles at tens of m/s. Lower bounds
+    /// let impacts sink deeper; higher ones let more throws through (docs/ALGORITHM.md, section
+    /// 5, "Separation bound").
+    float maxSeparationSpeed = 2.0f;
     /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
     /// overlap deeper than the contact skin is pushed out by at most the skin plus this speed
     /// times the substep per substep, by moving positions, without adding velocity: bodies

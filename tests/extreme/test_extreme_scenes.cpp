@@ -128,8 +128,7 @@ TEST(ExtremeScenes, LetterOneMillimetreThick) {
 // simulated. Criterion: the heavy sphere never more than 1 cm (1 % of the size) inside the
 // light one, checked every 10th frame by the meshes (winding number). Measured: within 1 cm at
 // every offset with box-pair contacts; 18 cm at the 5 cm offset with the paper's node contacts,
-// when this was the known bug HeavySphereDoesNotCrushALightOne. (The light one is still
-// squeezed out too fast: tests/known_bugs LightSphereIsNotThrownFromUnderAHeavyOne.)
+// when this was the known bug HeavySphereDoesNotCrushALightOne.
 TEST(ExtremeScenes, HeavySphereDoesNotCrushALightOne) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));
@@ -145,6 +144,24 @@ TEST(ExtremeScenes, HeavySphereDoesNotCrushALightOne) {
     }
 }
 
+// The same five layouts, 5 s each. Criterion: the light sphere never faster than 15 m/s (its
+// fastest over the five is 7.6-9.4 m/s with the separation bound of 2 m/s; 18-30 m/s without
+// it, when this was a known bug: the rigid impact phase turned the squeezed sphere's deformation
+// speed into rigid motion, docs/ALGORITHM.md section 5, "Separation bound").
+TEST(ExtremeScenes, LightSphereIsNotThrownFromUnderAHeavyOne) {
+    for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
+        SCOPED_TRACE("offset " + std::to_string(offset));
+        World world;
+        const BodyId light = test::addHeavyOnLight(world, offset);
+        float fastest = 0;
+        for (int f = 0; f < 300; ++f) {
+            world.step();
+            fastest = std::max(fastest, length(world.linearVelocity(light)));
+        }
+        EXPECT_LT(fastest, 15.0f);
+    }
+}
+
 // Touching spheres with a mass ratio of 1:1000, both ways round: a heavy sphere resting on a
 // light one and a light one on a heavy one, the upper sphere offset sideways by 0 to 10 cm
 // (what happens on the way depends on the offset: one offset alone passed or failed by chance);
@@ -152,8 +169,7 @@ TEST(ExtremeScenes, HeavySphereDoesNotCrushALightOne) {
 // Criteria, every offset: every frame finite and no vertex more than 1 cm below the floor (the
 // light sphere is not pressed through the floor); after 10 s no vertex inside another body
 // deeper than 1 cm, both heavy spheres at rest (slower than 0.1 m/s) and the total mechanical
-// energy below the start's (nothing gained). On the way the light sphere is squeezed out at
-// high speed: tests/known_bugs LightSphereIsNotThrownFromUnderAHeavyOne (docs/LIMITS.md).
+// energy below the start's (nothing gained).
 TEST(ExtremeScenes, MassRatioOneToAThousand) {
     for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
         SCOPED_TRACE("offset " + std::to_string(offset));
@@ -190,11 +206,14 @@ TEST(ExtremeScenes, MassRatioOneToAThousand) {
 // A column of 20 spheres falling onto each other with frames of 1/15 s (two substeps of
 // 1/30 s); 20 s simulated; the column nearly aligned (each sphere offset by up to dx, dz) for
 // four choices of (dx, dz).
-// Criteria, each column: every frame finite and no two centres closer than 0.7 m (radius 0.5:
+// Criteria, each column: every frame finite and no two centres closer than 0.6 m (radius 0.5:
 // at 1/15 s a sphere meeting another at 10 m/s sinks in by up to a third of a frame's travel
-// before the contacts push it out: measured 0.73-0.89 m; a pass through would bring the centres
-// near 0); after 20 s no vertex below the floor by more than 1 cm, none inside another body
-// deeper than 1 cm, and at rest (kinetic energy below 1e-6 J/kg).
+// before the contacts push it out, and the column collapses sideways, so the closest pair
+// depends on the path: over twelve columns offset by 0-2 cm the closest is 0.675-0.810 m with
+// the separation bound of 2 m/s and 0.706-0.814 m without it, the exact column the least with
+// the bound; a pass through would bring the centres near 0); after 20 s no vertex below the
+// floor by more than 1 cm, none inside another body deeper than 1 cm, and at rest (kinetic
+// energy below 1e-6 J/kg).
 TEST(ExtremeScenes, FrameStepOneFifteenth) {
     for (const auto& [dx, dz] :
          {std::pair{0.1f, 0.1f}, {0.12f, 0.1f}, {0.05f, 0.05f}, {0.0f, 0.0f}}) {
@@ -212,7 +231,7 @@ TEST(ExtremeScenes, FrameStepOneFifteenth) {
             ASSERT_TRUE(allFinite(world)) << "frame " << f;
             closest = std::min(closest, closestCentres(world));
         }
-        EXPECT_GT(closest, 0.7f);
+        EXPECT_GT(closest, 0.6f);
         EXPECT_GT(lowestVertex(world), -0.01f);
         EXPECT_LE(deepestInside(world, 1.0f), 0.01);
         EXPECT_LT(kineticEnergyPerKilogram(world), 1e-6);
@@ -319,13 +338,7 @@ TEST(ExtremeScenes, CoincidentBodiesKeepBoundedContacts) {
         ws.mode = mode;
         ws.overlapRecoverySpeed = 0;
         World world(ws);
-        std::mt19937 rng(3);
-        std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-        for (int i = 0; i < 8; ++i) {
-            BodySettings s = sphereAt({0, 2, 0});
-            s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
-            world.addBody(ball(), s);
-        }
+        test::addBallsAtOneSpot(world, 8, {0, 2, 0}, 3);
         for (int f = 0; f < 10; ++f) {
             world.step();
             EXPECT_TRUE(allFinite(world)) << "frame " << f;
@@ -464,7 +477,7 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // recovery, 50 spheres at one spot take 2-3 s per frame and never separate.
 TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     World world;
-    test::addTwoHundredAtOneSpot(world);
+    test::addBallsAtOneSpot(world, 200, {0, 0.6f, 0}, 1);
     float fastest = 0;
     int whole = 0;
     for (int f = 0; f < 240; ++f) {

@@ -17,34 +17,46 @@
 using namespace ffd;
 using ffd::test::ball;
 
-// A sphere 1,000 times heavier resting on a light one, offset sideways by 0 to 10 cm (as
-// tests/extreme MassRatioOneToAThousand and HeavySphereDoesNotCrushALightOne, which check that
-// both recover and that the heavy one stays out of the light one). Wanted: the light one never
-// thrown faster than 15 m/s. Today the contact split by mass leaves the light sphere almost all
-// of each correction, and it is squeezed out at 20-28 m/s (docs/LIMITS.md).
-TEST(KnownBugs, LightSphereIsNotThrownFromUnderAHeavyOne) {
-    for (const float offset : {0.0f, 0.03f, 0.05f, 0.07f, 0.1f}) {
-        SCOPED_TRACE("offset " + std::to_string(offset));
+// A ball 0.5 m across dropped into a square of four static pegs (as in tests/world
+// Colliders.BallsPouredOnAFieldOfPegs...: 0.16 m thick, 0.6 m tall, 0.6 m apart), at seven
+// points 1 cm apart. Wanted: every ball asleep after 10 s. Today some wedge between the pegs
+// above the floor (their cell boxes reach beyond the meshes, so the ball's boxes do not fit
+// through a gap its mesh would) and never stop: the centre keeps moving at 0.01-0.3 m/s, with
+// or without the separation bound (switching it off at 5 s leaves the jitter as it is), so
+// nothing puts them to sleep (docs/LIMITS.md, known problem 4).
+TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
+    TriangleMesh small = ball();
+    transform(small, 0.5f, {});
+    for (int k = 0; k <= 6; ++k) {
+        SCOPED_TRACE("offset " + std::to_string(k) + " cm");
         World world;
-        const BodyId light = test::addHeavyOnLight(world, offset);
-        float fastest = 0;
-        for (int f = 0; f < 300; ++f) {
-            world.step();
-            fastest = std::max(fastest, length(world.linearVelocity(light)));
-        }
-        EXPECT_LT(fastest, 15.0f);
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) {
+                BodySettings peg;
+                peg.motion = BodyMotion::Static;
+                peg.position = {-0.6f * float(i), 0.3f, -0.6f * float(j)};
+                peg.lattice.targetCells = 64;
+                world.addBody(box({0.08f, 0.3f, 0.08f}), peg);
+            }
+        const BodyId dropped =
+            world.addBody(small, test::sphereAt({-0.3f, 0.9f, -0.3f - 0.01f * float(k)}));
+        for (int f = 0; f < 600; ++f) world.step();
+        EXPECT_FALSE(world.isAwake(dropped)) << "centre at " << world.centreOfMass(dropped).y;
     }
 }
 
-// 200 spheres created at one spot (tests/extreme TwoHundredAtOneSpotSeparate, the same layout):
-// the dense-pile issue asks them apart within 3 s. Wanted: no vertex inside another sphere
-// deeper than 1 cm (the mesh measure) after 3 s. Today the last whole pairs, pushed apart by
-// positions at the recovery speed, are held back by their neighbours' contacts: over six layouts
-// (rotations from seeds 1-6) the meshes are apart from 2.5 to 3.8 s, and this one is 26 cm deep
-// at 3 s (docs/LIMITS.md, known problem 1).
+// 200 spheres created at one spot (tests/extreme TwoHundredAtOneSpotSeparate, the same layout
+// with rotations from seed 1): the dense-pile issue asks them apart within 3 s. Wanted: no
+// vertex inside another sphere deeper than 1 cm (the mesh measure) after 3 s, for the rotations
+// of seeds 1-6. Today the last whole pairs, pushed apart by positions at the recovery speed, are
+// held back by their neighbours' contacts: the meshes are apart in 2.8-4.0 s over the six
+// (docs/LIMITS.md, known problem 1). The slowest seeds go first, and the first failure ends it.
 TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
-    World world;
-    test::addTwoHundredAtOneSpot(world);
-    for (int f = 0; f < 180; ++f) world.step();
-    EXPECT_LE(test::deepestInside(world), 0.01);
+    for (const unsigned seed : {6u, 5u, 3u, 4u, 2u, 1u}) {
+        SCOPED_TRACE("seed " + std::to_string(seed));
+        World world;
+        test::addBallsAtOneSpot(world, 200, {0, 0.6f, 0}, seed);
+        for (int f = 0; f < 180; ++f) world.step();
+        ASSERT_LE(test::deepestInside(world), 0.01);
+    }
 }

@@ -129,11 +129,11 @@ BodyId addHeavyOnLight(World& world, float offset) {
     return light;
 }
 
-void addTwoHundredAtOneSpot(World& world) {
-    std::mt19937 rng(1);
+void addBallsAtOneSpot(World& world, int count, Vec3 centre, unsigned seed) {
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-0.5f, 0.5f);
-    for (int i = 0; i < 200; ++i) {
-        BodySettings s = sphereAt({0, 0.6f, 0});
+    for (int i = 0; i < count; ++i) {
+        BodySettings s = sphereAt(centre);
         s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
         world.addBody(ball(), s);
     }

@@ -100,9 +100,10 @@ BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 /// floor, offset sideways by `offset` metres: the mass-ratio case. Returns the light body.
 BodyId addHeavyOnLight(World& world, float offset);
 
-/// 200 ball() bodies created with one centre, just above the floor, each turned at random
-/// (rotations from a std::mt19937 seeded with 1): the "200 at one spot" case.
-void addTwoHundredAtOneSpot(World& world);
+/// `count` ball() bodies created with one centre, each turned at random (rotations from a
+/// std::mt19937 seeded with `seed`). 200 of them at (0, 0.6, 0), just above the floor, are the
+/// "200 at one spot" case.
+void addBallsAtOneSpot(World& world, int count, Vec3 centre, unsigned seed);
 
 /// How deep the deepest mesh vertex lies inside another body's closed mesh (metres, 0 when none
 /// is): the winding-number measure of bench/common/interpenetration.h over all bodies.
