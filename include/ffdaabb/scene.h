@@ -9,7 +9,7 @@
 //     "world":  { "frame_step": 1/60, "substeps": 2, "gravity": [0,-9.81,0], "floor": true,
 //                 "floor_height": 0, "mode": "enhanced", "contact_skin": 0.05,
 //                 "solver_iterations": 4, "threads": 1, "sweep_threshold": 64,
-//                 "max_separation_speed": 0, "push_out_speed": 0,
+//                 "max_separation_speed": 2, "push_out_speed": 0,
 //                 "overlap_recovery_speed": 2 },
 //     "objects": [ {                              (required, at least one)
 //         "mesh": "sphere" | "letters" | any generator name | {"file": "path.obj"},

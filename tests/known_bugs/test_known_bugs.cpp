@@ -23,7 +23,7 @@ using ffd::test::ball;
 // above the floor (their cell boxes reach beyond the meshes, so the ball's boxes do not fit
 // through a gap its mesh would) and never stop: the centre keeps moving at 0.01-0.3 m/s, with
 // or without the separation bound (switching it off at 5 s leaves the jitter as it is), so
-// nothing puts them to sleep (docs/LIMITS.md, known problem 4).
+// nothing puts them to sleep (docs/LIMITS.md, known problem 2).
 TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
     TriangleMesh small = ball();
     transform(small, 0.5f, {});
