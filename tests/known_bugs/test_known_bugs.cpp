@@ -20,10 +20,10 @@ using ffd::test::ball;
 // A ball 0.5 m across dropped into a square of four static pegs (as in tests/world
 // Colliders.BallsPouredOnAFieldOfPegs...: 0.16 m thick, 0.6 m tall, 0.6 m apart), at seven
 // points 1 cm apart. Wanted: every ball asleep after 10 s. Today some wedge between the pegs
-// above the floor (their cell boxes reach beyond the meshes, so the ball's boxes do not fit
-// through a gap its mesh would) and never stop: the centre keeps moving at 0.01-0.3 m/s, with
-// or without the separation bound (switching it off at 5 s leaves the jitter as it is), so
-// nothing puts them to sleep (docs/LIMITS.md, known problem 2).
+// above the floor, where the mesh would pass (the pipeline collides cell boxes, which reach
+// beyond the meshes; not yet traced further), and never stop: the centre keeps moving at
+// 0.01-0.3 m/s, with or without the separation bound (switching it off at 5 s leaves the jitter
+// as it is), so nothing puts them to sleep (docs/LIMITS.md, known problem 2).
 TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
     TriangleMesh small = ball();
     transform(small, 0.5f, {});
