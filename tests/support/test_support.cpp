@@ -119,6 +119,20 @@ BodySettings sphereAt(Vec3 position, Vec3 velocity) {
     return s;
 }
 
+TriangleMesh smallBall() {
+    TriangleMesh m = ball();
+    transform(m, 0.5f, {});
+    return m;
+}
+
+BodySettings collider(BodyMotion motion, Vec3 position, int targetCells) {
+    BodySettings s;
+    s.motion = motion;
+    s.position = position;
+    s.lattice.targetCells = targetCells;
+    return s;
+}
+
 BodyId addHeavyOnLight(World& world, float offset) {
     BodySettings s = sphereAt({0, 0.5f, 0});
     s.density = 10;

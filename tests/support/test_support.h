@@ -96,6 +96,14 @@ TriangleMesh ball();
 /// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
 BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 
+/// A ball() scaled to 0.5 m across (radius 0.25), with the paper's lattice: the balls the
+/// collider tests pour among pegs, steps and bowls.
+TriangleMesh smallBall();
+
+/// Settings of a static or kinematic collider body at `position` with a lattice of about
+/// `targetCells` cells.
+BodySettings collider(BodyMotion motion, Vec3 position, int targetCells = 64);
+
 /// A ball() 1,000 times heavier (density 10,000) resting on a light one (density 10) on the
 /// floor, offset sideways by `offset` metres: the mass-ratio case. Returns the light body.
 BodyId addHeavyOnLight(World& world, float offset);

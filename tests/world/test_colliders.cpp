@@ -15,28 +15,15 @@
 
 using namespace ffd;
 using ffd::test::ball;
+using ffd::test::collider;
 using ffd::test::deepestInside;
+using ffd::test::smallBall;
 using ffd::test::sphereAt;
 
 namespace {
 
 std::vector<Vec3> particlesOf(const World& world, BodyId b) {
     return {world.particles(b).begin(), world.particles(b).end()};
-}
-
-BodySettings collider(BodyMotion motion, Vec3 position, int targetCells = 64) {
-    BodySettings s;
-    s.motion = motion;
-    s.position = position;
-    s.lattice.targetCells = targetCells;
-    return s;
-}
-
-// A ball 0.5 m across (radius 0.25) with the paper's lattice.
-TriangleMesh smallBall() {
-    TriangleMesh m = ball();
-    transform(m, 0.5f, {});
-    return m;
 }
 
 float lowestVertexY(const World& world, BodyId b) {
