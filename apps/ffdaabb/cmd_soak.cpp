@@ -177,16 +177,24 @@ int soak(const SoakOptions& o) {
                                               b, below, when, lim.floorTolerance, sizes[b])};
             }
         if (frame % lim.checkEvery == 0 || frame == lim.frames) {
-            const bench::Interpenetration p = bench::measureInterpenetration(views, measure);
+            // The deepest vertex, to name in a failure: its object, the object it is inside.
+            size_t deepA = 0, deepVertex = 0, deepB = 0;
+            double deepDepth = -1;
+            const bench::Interpenetration p = bench::measureInterpenetration(
+                views, measure, [&](size_t a, size_t vertex, size_t b, double depth) {
+                    if (depth > deepDepth) deepA = a, deepVertex = vertex, deepB = b;
+                    deepDepth = std::max(deepDepth, depth);
+                });
             ++measures;
             insideSamples += p.insideVertices > 0;
             deepest = std::max(deepest, p.maxDepthRelative);
             if (p.deepVertices > 0)
                 return {true, fmt::format("{} vertices lie inside other objects {} ({} pairs), "
-                                          "deepest {:.4g} m, more than {:g} of the largest "
-                                          "object's size {:.4g} m",
-                                          p.deepVertices, when, p.bodyPairs, p.maxDepth,
-                                          lim.depthTolerance, measure.referenceSize)};
+                                          "deepest {:.4g} m (vertex {} of object {} inside "
+                                          "object {}), more than {:g} of the largest object's "
+                                          "size {:.4g} m",
+                                          p.deepVertices, when, p.bodyPairs, p.maxDepth, deepVertex,
+                                          deepA, deepB, lim.depthTolerance, measure.referenceSize)};
         }
         return {};
     };

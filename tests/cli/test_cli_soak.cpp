@@ -36,6 +36,11 @@ TEST(CliSoak, InterpenetrationIsReportedWithItsFrame) {
     EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_NE(r.err.find("FAILED"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("inside other objects at frame"), std::string::npos) << r.err;
+    // The deepest vertex is named with its object and the object it is inside: one sphere's
+    // inside the other's.
+    const bool named = r.err.find("of object 0 inside object 1)") != std::string::npos ||
+                       r.err.find("of object 1 inside object 0)") != std::string::npos;
+    EXPECT_TRUE(named) << r.err;
 }
 
 TEST(CliSoak, FloorIsReportedWithItsFrame) {
