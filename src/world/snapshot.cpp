@@ -154,7 +154,7 @@ uint64_t checksum(std::span<const uint8_t> bytes) {
 }
 
 template <class T>
-constexpr size_t kFloatsOf = sizeof(T) / sizeof(float);
+[[maybe_unused]] constexpr size_t kFloatsOf = sizeof(T) / sizeof(float);
 template <class T>
 constexpr bool kFloatRecord =
     std::is_same_v<T, Vec3> || std::is_same_v<T, Quat> || std::is_same_v<T, Aabb>;
