@@ -15,7 +15,6 @@
 #include <vector>
 
 using namespace ffd;
-using ffd::test::ball;
 
 // A ball 0.5 m across dropped into a square of four static pegs (as in tests/world
 // Colliders.BallsPouredOnAFieldOfPegs...: 0.16 m thick, 0.6 m tall, 0.6 m apart), at seven

@@ -96,8 +96,8 @@ TriangleMesh ball();
 /// Settings of a ball() body: the paper's 38-cell lattice, at `position` with `velocity`.
 BodySettings sphereAt(Vec3 position, Vec3 velocity = {});
 
-/// A ball() scaled to 0.5 m across (radius 0.25), with the paper's lattice: the balls the
-/// collider tests pour among pegs, steps and bowls.
+/// A ball() scaled to 0.5 m across (radius 0.25): the balls the collider tests pour among pegs,
+/// steps and bowls (with sphereAt's settings, the paper's lattice).
 TriangleMesh smallBall();
 
 /// Settings of a static or kinematic collider body at `position` with a lattice of about
