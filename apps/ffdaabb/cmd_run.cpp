@@ -133,12 +133,16 @@ int run(const RunCommandOptions& o) {
                r.sleepingBodies, r.sleepingAtEnd, r.objects);
     if (r.measureSamples > 0) {
         const bench::Interpenetration& p = r.interpenetration;
+        const std::string which =
+            p.deepestBody < 0 ? std::string()
+                              : fmt::format(" (vertex {} of object {} inside object {})",
+                                            p.deepestVertex, p.deepestBody, p.deepestInside);
         fmt::print(
             "  interpenetration   deepest vertex {:.4f} m inside another object ({:.2f} % of "
-            "the largest size) at frame {}; at most {} vertices inside, {} deeper than "
+            "the largest size) at frame {}{}; at most {} vertices inside, {} deeper than "
             "1 % ({} samples, every {} frames)\n",
-            p.maxDepth, 100 * p.maxDepthRelative, r.deepestFrame, p.insideVertices, p.deepVertices,
-            r.measureSamples, r.measureEvery);
+            p.maxDepth, 100 * p.maxDepthRelative, r.deepestFrame, which, p.insideVertices,
+            p.deepVertices, r.measureSamples, r.measureEvery);
     }
     fmt::print("  deepest contact    {:.4f} m (the pipeline's node in a box, after the response)\n",
                r.maxContactDepth);

@@ -177,14 +177,7 @@ int soak(const SoakOptions& o) {
                                               b, below, when, lim.floorTolerance, sizes[b])};
             }
         if (frame % lim.checkEvery == 0 || frame == lim.frames) {
-            // The deepest vertex, to name in a failure: its object, the object it is inside.
-            size_t deepA = 0, deepVertex = 0, deepB = 0;
-            double deepDepth = -1;
-            const bench::Interpenetration p = bench::measureInterpenetration(
-                views, measure, [&](size_t a, size_t vertex, size_t b, double depth) {
-                    if (depth > deepDepth) deepA = a, deepVertex = vertex, deepB = b;
-                    deepDepth = std::max(deepDepth, depth);
-                });
+            const bench::Interpenetration p = bench::measureInterpenetration(views, measure);
             ++measures;
             insideSamples += p.insideVertices > 0;
             deepest = std::max(deepest, p.maxDepthRelative);
@@ -193,8 +186,9 @@ int soak(const SoakOptions& o) {
                                           "deepest {:.4g} m (vertex {} of object {} inside "
                                           "object {}), more than {:g} of the largest object's "
                                           "size {:.4g} m",
-                                          p.deepVertices, when, p.bodyPairs, p.maxDepth, deepVertex,
-                                          deepA, deepB, lim.depthTolerance, measure.referenceSize)};
+                                          p.deepVertices, when, p.bodyPairs, p.maxDepth,
+                                          p.deepestVertex, p.deepestBody, p.deepestInside,
+                                          lim.depthTolerance, measure.referenceSize)};
         }
         return {};
     };

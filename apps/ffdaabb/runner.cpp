@@ -159,6 +159,10 @@ nlohmann::json interpenetrationJson(const RunResult& r) {
             {"max_depth_relative", p.maxDepthRelative},
             {"max_depth_m", p.maxDepth},
             {"deepest_frame", r.deepestFrame},
+            {"deepest_vertex", p.deepestBody < 0 ? nlohmann::json(nullptr)
+                                                 : nlohmann::json{{"object", p.deepestBody},
+                                                                  {"vertex", p.deepestVertex},
+                                                                  {"inside", p.deepestInside}}},
             {"max_inside_vertices", p.insideVertices},
             {"max_deep_vertices", p.deepVertices},
             {"max_body_pairs", p.bodyPairs},

@@ -161,7 +161,10 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
             ++out.insideVertices;
             if (depth > deep) ++out.deepVertices;
             depthSum += depth;
-            out.maxDepth = std::max(out.maxDepth, depth);
+            if (out.deepestBody < 0 || depth > out.maxDepth) {
+                out.maxDepth = depth;
+                out.deepestBody = int(a), out.deepestVertex = int(k), out.deepestInside = int(b);
+            }
         }
         return any;
     };
@@ -228,6 +231,11 @@ void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample) {
     w.bodyPairs = std::max(w.bodyPairs, sample.bodyPairs);
     w.insideVertices = std::max(w.insideVertices, sample.insideVertices);
     w.deepVertices = std::max(w.deepVertices, sample.deepVertices);
+    if (sample.deepestBody >= 0 && (w.deepestBody < 0 || sample.maxDepth > w.maxDepth)) {
+        w.deepestBody = sample.deepestBody;
+        w.deepestVertex = sample.deepestVertex;
+        w.deepestInside = sample.deepestInside;
+    }
     w.maxDepth = std::max(w.maxDepth, sample.maxDepth);
     w.meanDepth = std::max(w.meanDepth, sample.meanDepth);
     w.maxDepthRelative = std::max(w.maxDepthRelative, sample.maxDepthRelative);

@@ -42,9 +42,13 @@ struct Interpenetration {
     double maxDepth = 0;    ///< deepest vertex, distance to the other body's surface
     double meanDepth = 0;   ///< mean depth of the inside vertices (0 when none)
     double maxDepthRelative = 0; ///< maxDepth / referenceSize
-    double lowestY = 0;          ///< lowest vertex y over all bodies
-    double belowFloor = 0;       ///< max(0, floorHeight - lowestY)
-    int belowFloorVertices = 0;  ///< vertices below the floor plane
+    /// The deepest vertex (-1 when none is inside): vertex `deepestVertex` of body
+    /// `deepestBody` lies inside body `deepestInside`, maxDepth from its surface. Indices are
+    /// into the measured bodies; of equally deep vertices, the first found.
+    int deepestBody = -1, deepestVertex = -1, deepestInside = -1;
+    double lowestY = 0;         ///< lowest vertex y over all bodies
+    double belowFloor = 0;      ///< max(0, floorHeight - lowestY)
+    int belowFloorVertices = 0; ///< vertices below the floor plane
     /// The other side of the trade: how far apart neighbours rest. Each body's gap is the
     /// smallest vertex-to-surface distance to any other body (0 when they interpenetrate), for
     /// bodies with a neighbour within gapFraction * referenceSize ("near bodies"). In a resting
@@ -83,9 +87,9 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
                                          const InsideVertexFn& onInside = {});
 
 /// Folds `sample` into `ioWorst` field by field: maxima of the counts, the depths (meanDepth
-/// included), medianGap and meanGap; minima of lowestY and (over samples with near bodies) of
-/// minGap, the closest approach; and of finiteness. A default (empty, 0 bodies) `ioWorst`
-/// takes the sample as it is.
+/// included; the deepest vertex goes with maxDepth), medianGap and meanGap; minima of lowestY and
+/// (over samples with near bodies) of minGap, the closest approach; and of finiteness. A default
+/// (empty, 0 bodies) `ioWorst` takes the sample as it is.
 void keepWorst(Interpenetration& ioWorst, const Interpenetration& sample);
 
 } // namespace ffd::bench

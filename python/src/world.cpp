@@ -656,7 +656,8 @@ void bindWorld(py::module_& m) {
             std::vector<bench::MeshView> views;
             bench::InterpenetrationSettings measure;
             float largest = 0;
-            for (BodyId id : w.world.bodies()) {
+            const std::vector<BodyId> ids = w.world.bodies();
+            for (BodyId id : ids) {
                 views.push_back({w.world.vertices(id), w.world.triangles(id)});
                 const Aabb b = w.world.bounds(id);
                 const Vec3 e = b.hi - b.lo;
@@ -679,13 +680,24 @@ void bindWorld(py::module_& m) {
             d["deep_vertices"] = p.deepVertices;
             d["body_pairs"] = p.bodyPairs;
             d["below_floor_m"] = p.belowFloor;
+            if (p.deepestBody < 0) {
+                d["deepest_vertex"] = py::none();
+            } else {
+                py::dict deepest;
+                deepest["body"] = ids[size_t(p.deepestBody)];
+                deepest["vertex"] = p.deepestVertex;
+                deepest["inside"] = ids[size_t(p.deepestInside)];
+                d["deepest_vertex"] = deepest;
+            }
             return d;
         },
         py::arg("reference_size") = py::none(),
         "The meshes' interpenetration now, by winding number (the measure `ffdaabb run` "
         "reports): the deepest vertex inside another body (metres, and relative to "
-        "reference_size: default the largest body's extent), the vertices inside, those deeper "
-        "than 1 %, the body pairs, and how far below the floor.");
+        "reference_size: default the largest body's extent), which vertex that is "
+        "(deepest_vertex: body, vertex index, the body it is inside; None when none is "
+        "inside), the vertices inside, those deeper than 1 %, the body pairs, and how far below "
+        "the floor.");
 }
 
 } // namespace ffd::python

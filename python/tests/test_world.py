@@ -152,12 +152,16 @@ def test_generators_and_mesh_files(tmp_path):
 
 def test_interpenetration_is_measured_on_the_meshes():
     w = ffdaabb.World(gravity=(0, 0, 0), floor=False, overlap_recovery_speed=0)
-    w.add_body(*ffdaabb.sphere(), position=(0, 0, 0))
-    w.add_body(*ffdaabb.sphere(), position=(1.5, 0, 0))
+    a = w.add_body(*ffdaabb.sphere(), position=(0, 0, 0))
+    b = w.add_body(*ffdaabb.sphere(), position=(1.5, 0, 0))
     m = w.interpenetration()
     assert m["inside_vertices"] > 0 and m["body_pairs"] == 1
+    deepest = m["deepest_vertex"]
+    assert {deepest["body"], deepest["inside"]} == {a, b}
+    assert 0 <= deepest["vertex"] < len(w.vertices(deepest["body"]))
     assert m["max_depth_m"] == pytest.approx(0.5, abs=0.06)
     assert m["reference_size_m"] == pytest.approx(2, abs=0.05)
     apart = ffdaabb.World()
     apart.add_body(*ffdaabb.sphere(), position=(0, 2, 0))
     assert apart.interpenetration()["inside_vertices"] == 0
+    assert apart.interpenetration()["deepest_vertex"] is None

@@ -90,6 +90,33 @@ TEST(Interpenetration, TheCallbackSeesEveryInsideVertex) {
     EXPECT_EQ(deepest, r.maxDepth);
 }
 
+// The deepest vertex is named: it lies inside the body named, as deep as maxDepth, and no
+// vertex of any body lies deeper inside another. A third body far away shifts the indices.
+TEST(Interpenetration, TheDeepestVertexIsNamed) {
+    const std::vector<TriangleMesh> meshes = {sphere(1.0f, {10, 0, 0}), sphere(1.0f, {}),
+                                              sphere(0.6f, {1.2f, 0.1f, 0})};
+    std::vector<MeshView> views;
+    for (const TriangleMesh& mesh : meshes) views.push_back(view(mesh));
+    const Interpenetration r = measureInterpenetration(views);
+    ASSERT_GE(r.deepestBody, 1);
+    ASSERT_GE(r.deepestInside, 1);
+    EXPECT_NE(r.deepestBody, r.deepestInside);
+    const MeshView& body = views[size_t(r.deepestBody)];
+    ASSERT_LT(size_t(r.deepestVertex), body.vertices.size());
+    const Vec3 v = body.vertices[size_t(r.deepestVertex)];
+    const MeshView& other = views[size_t(r.deepestInside)];
+    EXPECT_TRUE(insideMesh(v, other));
+    EXPECT_EQ(distanceToSurface(v, other), r.maxDepth);
+    double deepest = 0;
+    for (size_t a = 0; a < views.size(); ++a)
+        for (size_t b = 0; b < views.size(); ++b)
+            for (const Vec3& u : views[a].vertices)
+                if (a != b && insideMesh(u, views[b]))
+                    deepest = std::max(deepest, distanceToSurface(u, views[b]));
+    EXPECT_EQ(deepest, r.maxDepth);
+    EXPECT_GT(r.maxDepth, 0.3);
+}
+
 // Radius-1 spheres whose centres are 1.5 apart overlap by 0.5: the vertex of A on the line of
 // centres lies 0.5 from B's centre, so 0.5 inside B's sphere (a little less from B's faces).
 TEST(Interpenetration, UnitRadiusSpheresAtOnePointFive) {
@@ -131,6 +158,8 @@ TEST(Interpenetration, FarApartSpheresDoNotInterpenetrate) {
     EXPECT_EQ(r.deepVertices, 0);
     EXPECT_EQ(r.maxDepth, 0.0);
     EXPECT_EQ(r.meanDepth, 0.0);
+    EXPECT_EQ(r.deepestBody, -1);
+    EXPECT_EQ(r.deepestVertex, -1);
 }
 
 // Touching at one point (centres 2 apart, radius 1): bounds overlap, nothing is inside.
@@ -149,6 +178,8 @@ TEST(Interpenetration, TinySphereInsideABigOne) {
     EXPECT_GT(r.maxDepth, 0.8);
     EXPECT_LT(r.maxDepth, 1.0);
     EXPECT_GT(r.meanDepth, 0.8);
+    EXPECT_EQ(r.deepestBody, 1);
+    EXPECT_EQ(r.deepestInside, 0);
 }
 
 TEST(Interpenetration, FloorFigures) {
@@ -204,6 +235,31 @@ TEST(Interpenetration, KeepWorstTakesFieldwiseExtremes) {
     EXPECT_EQ(worst.meanDepth, 0.1);
     EXPECT_EQ(worst.lowestY, -0.01);
     EXPECT_FALSE(worst.finite);
+}
+
+// The deepest vertex goes with maxDepth: a shallower sample leaves it, a deeper one replaces it.
+TEST(Interpenetration, KeepWorstCarriesTheDeepestVertexWithTheDepth) {
+    auto sample = [](double depth, int body, int vertex, int inside) {
+        Interpenetration s;
+        s.bodies = 3, s.insideVertices = 1, s.maxDepth = depth;
+        s.deepestBody = body, s.deepestVertex = vertex, s.deepestInside = inside;
+        return s;
+    };
+    Interpenetration worst;
+    keepWorst(worst, sample(0.2, 0, 7, 1));
+    keepWorst(worst, sample(0.1, 1, 3, 0));
+    EXPECT_EQ(worst.deepestBody, 0);
+    EXPECT_EQ(worst.deepestVertex, 7);
+    EXPECT_EQ(worst.deepestInside, 1);
+    Interpenetration none;
+    none.bodies = 3;
+    keepWorst(worst, none);
+    EXPECT_EQ(worst.deepestVertex, 7);
+    keepWorst(worst, sample(0.3, 2, 4, 0));
+    EXPECT_EQ(worst.maxDepth, 0.3);
+    EXPECT_EQ(worst.deepestBody, 2);
+    EXPECT_EQ(worst.deepestVertex, 4);
+    EXPECT_EQ(worst.deepestInside, 0);
 }
 
 // Two radius-1 spheres facing each other vertex to vertex (the icosphere is centrally

@@ -98,9 +98,15 @@ TEST(CliRun, StatsReportTheMeshesInterpenetration) {
     EXPECT_GT(inside["max_depth_m"].get<double>(), 0.1);
     EXPECT_NEAR(inside["max_depth_relative"].get<double>(), inside["max_depth_m"].get<double>(),
                 1e-9); // size 1 m
+    // The deepest vertex: of one sphere, inside the other.
+    const auto& deepest = inside["deepest_vertex"];
+    ASSERT_TRUE(deepest.is_object()) << inside;
+    EXPECT_EQ(deepest["object"].get<int>() + deepest["inside"].get<int>(), 1) << deepest;
+    EXPECT_GE(deepest["vertex"].get<int>(), 0);
     const auto apart = measure(1.5);
     EXPECT_EQ(apart["max_inside_vertices"].get<int>(), 0);
     EXPECT_EQ(apart["max_depth_m"].get<double>(), 0.0);
+    EXPECT_TRUE(apart["deepest_vertex"].is_null()) << apart;
 }
 
 TEST(CliRun, SameRunTwiceGivesTheSameHash) {
