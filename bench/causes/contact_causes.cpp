@@ -28,6 +28,14 @@
 // Contacts are matched to the boxes they join (the box of A's point, B's box), so the tool
 // classifies node contacts (the paper's phase 3, before 2026-11) and box-pair contacts alike.
 // Prints a table per cause (vertices, share, deepest and mean depth) and writes it as JSON.
+//
+// The other side, on the same samples: contacts between meshes that do not touch. A contact
+// joins two cells; each cell's part of its mesh lies in the cell's box and in the convex hull
+// of the triangles that touch the cell (in the rest pose, by their bounds), so the two parts
+// are at least as far apart along the contact's normal as the larger of the two separations
+// (boxes, and those triangles' deformed vertices). A contact whose parts are apart by more than
+// the skin pushes on meshes that are not there: that is how far the boxes stand off curved
+// surfaces (docs/ALGORITHM.md section 2, "boxes are not tight").
 #include "collision/contact.h"
 #include "collision/narrow_phase.h"
 #include "collision/pipeline.h"
@@ -110,6 +118,37 @@ bool holds(const Box& box, Vec3 p, float skin) {
     return detail::testNodeInBox(box.planes, box.bounds, 63, p, skin).inside;
 }
 
+// Per cell of a model's lattice, the vertices of the triangles whose rest bounds meet the cell:
+// the cell's part of the mesh lies in their convex hull (the mesh is flat between its deformed
+// vertices).
+std::vector<std::vector<uint32_t>> cellTriangleVertices(const detail::BodyModel& model) {
+    const Lattice& L = model.lattice;
+    std::vector<std::vector<uint32_t>> out(L.cells.size());
+    const float h = L.cellSize;
+    auto gridOf = [&](float v, int axis) { return int(std::floor((v - L.origin[axis]) / h)); };
+    for (const auto& t : model.mesh.triangles) {
+        Aabb bounds;
+        for (int k = 0; k < 3; ++k) bounds.add(model.mesh.positions[t[k]]);
+        for (int k = gridOf(bounds.lo.z, 2); k <= gridOf(bounds.hi.z, 2); ++k)
+            for (int j = gridOf(bounds.lo.y, 1); j <= gridOf(bounds.hi.y, 1); ++j)
+                for (int i = gridOf(bounds.lo.x, 0); i <= gridOf(bounds.hi.x, 0); ++i) {
+                    const uint32_t cell = L.findCell({i, j, k});
+                    if (cell != UINT32_MAX) out[cell].insert(out[cell].end(), t.begin(), t.end());
+                }
+    }
+    for (std::vector<uint32_t>& v : out) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    return out;
+}
+
+// The contacts of the samples, and those between mesh parts apart by more than the skin.
+struct ApartTally {
+    long long contacts = 0, pairs = 0, apartContacts = 0, apartPairs = 0;
+    long long overlapping = 0, overlappingApart = 0; // found with their boxes overlapping
+};
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -162,6 +201,16 @@ int main(int argc, char** argv) {
     // (no node came within the margin of the other box, or the pair was no candidate).
     std::array<Tally, 2> tested{};
     std::vector<Vec3> pushes;
+    // Each model's cells' triangle vertices, and each world box's body and cell.
+    std::unordered_map<const detail::BodyModel*, std::vector<std::vector<uint32_t>>> parts;
+    std::vector<std::pair<uint32_t, uint32_t>> boxOwner(w.nodes.size() / 8);
+    for (uint32_t b = 0; b < w.bodies.size(); ++b) {
+        const detail::BodyRecord& r = w.bodies[b];
+        if (!parts.contains(r.model.get())) parts[r.model.get()] = cellTriangleVertices(*r.model);
+        for (uint32_t k = 0; k < r.boxCount; ++k)
+            boxOwner[r.firstBox + k] = {b, r.model->lattice.boxes[k].cell};
+    }
+    ApartTally apart;
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
         world.step();
@@ -248,7 +297,47 @@ int main(int argc, char** argv) {
             }
         };
         bench::measureInterpenetration(views, settings, classify);
-        nlohmann::json row = {{"frame", f}};
+        // The contacts between mesh parts apart along their normal by more than the skin.
+        ApartTally frameApart;
+        uint64_t lastKey = UINT64_MAX;
+        for (const detail::Contact& c : w.collision.objectContacts()) {
+            const auto [bodyA, cellA] = boxOwner[c.nodeA / 8];
+            const auto [bodyB, cellB] = boxOwner[c.boxB];
+            float lowA = -INFINITY, highB = INFINITY; // A's part along the normal, B's
+            float hullA = INFINITY, hullB = -INFINITY, boxA = INFINITY, boxB = -INFINITY;
+            for (const uint32_t v : parts[w.bodies[bodyA].model.get()][cellA])
+                hullA = std::min(hullA, dot(views[bodyA].vertices[v], c.normal));
+            for (const uint32_t v : parts[w.bodies[bodyB].model.get()][cellB])
+                hullB = std::max(hullB, dot(views[bodyB].vertices[v], c.normal));
+            for (int n = 0; n < 8; ++n) {
+                boxA = std::min(boxA, dot(now.nodes[size_t(c.nodeA / 8) * 8 + n], c.normal));
+                boxB = std::max(boxB, dot(now.nodes[size_t(c.boxB) * 8 + n], c.normal));
+            }
+            lowA = std::max(hullA, boxA), highB = std::min(hullB, boxB);
+            const bool isApart =
+                lowA - highB > w.settings.contactSkin * w.collision.bodies[bodyB].cellSize;
+            const uint64_t key = (uint64_t(c.nodeA / 8) << 32) | c.boxB;
+            ++frameApart.contacts;
+            frameApart.apartContacts += isApart;
+            if (key != lastKey) { // a pair's contacts are consecutive and share its normal
+                ++frameApart.pairs;
+                frameApart.apartPairs += isApart;
+                lastKey = key;
+            }
+            if (c.distance < 0) {
+                ++frameApart.overlapping;
+                frameApart.overlappingApart += isApart;
+            }
+        }
+        apart.contacts += frameApart.contacts, apart.pairs += frameApart.pairs;
+        apart.apartContacts += frameApart.apartContacts, apart.apartPairs += frameApart.apartPairs;
+        apart.overlapping += frameApart.overlapping;
+        apart.overlappingApart += frameApart.overlappingApart;
+        nlohmann::json row = {{"frame", f},
+                              {"contacts", frameApart.contacts},
+                              {"contacts_apart", frameApart.apartContacts},
+                              {"box_pairs", frameApart.pairs},
+                              {"box_pairs_apart", frameApart.apartPairs}};
         for (int c = 0; c < kCauseCount; ++c) {
             total[c].vertices += here[c].vertices;
             total[c].depthSum += here[c].depthSum;
@@ -297,11 +386,26 @@ int main(int argc, char** argv) {
         fmt::print("  unresolved, contacts {:<31} {:>6} vertices, max {:.2f} cm, mean {:.2f} cm\n",
                    heldNames[k], held[k].vertices, 100 * held[k].maxDepth,
                    held[k].vertices ? 100 * held[k].depthSum / double(held[k].vertices) : 0.0);
+    auto share = [](long long part, long long whole) {
+        return whole > 0 ? 100.0 * double(part) / double(whole) : 0.0;
+    };
+    fmt::print("  contacts between meshes apart: {} of {} object contacts ({:.1f} %) and {} of {} "
+               "box pairs ({:.1f} %) join mesh parts apart along the normal by more than the "
+               "skin; {} of the {} contacts found with their boxes overlapping ({:.1f} %)\n",
+               apart.apartContacts, apart.contacts, share(apart.apartContacts, apart.contacts),
+               apart.apartPairs, apart.pairs, share(apart.apartPairs, apart.pairs),
+               apart.overlappingApart, apart.overlapping,
+               share(apart.overlappingApart, apart.overlapping));
+    const nlohmann::json apartJson = {
+        {"contacts", apart.contacts},       {"contacts_apart", apart.apartContacts},
+        {"box_pairs", apart.pairs},         {"box_pairs_apart", apart.apartPairs},
+        {"overlapping", apart.overlapping}, {"overlapping_apart", apart.overlappingApart}};
     if (!jsonPath.empty()) {
         std::ofstream out(jsonPath);
-        out << nlohmann::json{{"scene", scene.name}, {"objects", build.bodies.size()},
-                              {"frames", frames},    {"every", every},
-                              {"causes", causes},    {"per_frame", perFrame}}
+        out << nlohmann::json{{"scene", scene.name},  {"objects", build.bodies.size()},
+                              {"frames", frames},     {"every", every},
+                              {"causes", causes},     {"meshes_apart", apartJson},
+                              {"per_frame", perFrame}}
                    .dump(1)
             << "\n";
         if (!out) {
