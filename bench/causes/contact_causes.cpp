@@ -201,16 +201,21 @@ int main(int argc, char** argv) {
     // (no node came within the margin of the other box, or the pair was no candidate).
     std::array<Tally, 2> tested{};
     std::vector<Vec3> pushes;
-    // Each model's cells' triangle vertices, and each world box's body and cell.
+    // Each model's cells' triangle vertices (bodyParts: each body's model's), and each world
+    // box's body and cell.
     std::unordered_map<const detail::BodyModel*, std::vector<std::vector<uint32_t>>> parts;
+    std::vector<const std::vector<std::vector<uint32_t>>*> bodyParts(w.bodies.size());
     std::vector<std::pair<uint32_t, uint32_t>> boxOwner(w.nodes.size() / 8);
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const detail::BodyRecord& r = w.bodies[b];
-        if (!parts.contains(r.model.get())) parts[r.model.get()] = cellTriangleVertices(*r.model);
+        auto [it, added] = parts.try_emplace(r.model.get());
+        if (added) it->second = cellTriangleVertices(*r.model);
+        bodyParts[b] = &it->second;
         for (uint32_t k = 0; k < r.boxCount; ++k)
             boxOwner[r.firstBox + k] = {b, r.model->lattice.boxes[k].cell};
     }
     ApartTally apart;
+    std::vector<std::pair<uint64_t, bool>> pairApart; // per contact: its box pair, apart
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
         world.step();
@@ -299,36 +304,40 @@ int main(int argc, char** argv) {
         bench::measureInterpenetration(views, settings, classify);
         // The contacts between mesh parts apart along their normal by more than the skin.
         ApartTally frameApart;
-        uint64_t lastKey = UINT64_MAX;
+        pairApart.clear();
         for (const detail::Contact& c : w.collision.objectContacts()) {
             const auto [bodyA, cellA] = boxOwner[c.nodeA / 8];
             const auto [bodyB, cellB] = boxOwner[c.boxB];
-            float lowA = -INFINITY, highB = INFINITY; // A's part along the normal, B's
+            // A's part's lowest along the normal and B's highest: by their triangles' vertices
+            // and by their boxes' nodes, whichever bounds tighter.
             float hullA = INFINITY, hullB = -INFINITY, boxA = INFINITY, boxB = -INFINITY;
-            for (const uint32_t v : parts[w.bodies[bodyA].model.get()][cellA])
+            for (const uint32_t v : (*bodyParts[bodyA])[cellA])
                 hullA = std::min(hullA, dot(views[bodyA].vertices[v], c.normal));
-            for (const uint32_t v : parts[w.bodies[bodyB].model.get()][cellB])
+            for (const uint32_t v : (*bodyParts[bodyB])[cellB])
                 hullB = std::max(hullB, dot(views[bodyB].vertices[v], c.normal));
             for (int n = 0; n < 8; ++n) {
                 boxA = std::min(boxA, dot(now.nodes[size_t(c.nodeA / 8) * 8 + n], c.normal));
                 boxB = std::max(boxB, dot(now.nodes[size_t(c.boxB) * 8 + n], c.normal));
             }
-            lowA = std::max(hullA, boxA), highB = std::min(hullB, boxB);
-            const bool isApart =
-                lowA - highB > w.settings.contactSkin * w.collision.bodies[bodyB].cellSize;
-            const uint64_t key = (uint64_t(c.nodeA / 8) << 32) | c.boxB;
+            const bool isApart = std::max(hullA, boxA) - std::min(hullB, boxB) >
+                                 w.settings.contactSkin * w.collision.bodies[bodyB].cellSize;
             ++frameApart.contacts;
             frameApart.apartContacts += isApart;
-            if (key != lastKey) { // a pair's contacts are consecutive and share its normal
-                ++frameApart.pairs;
-                frameApart.apartPairs += isApart;
-                lastKey = key;
-            }
             if (c.distance < 0) {
                 ++frameApart.overlapping;
                 frameApart.overlappingApart += isApart;
             }
+            // A pair's contacts share its normal, so its verdict; they need not be consecutive
+            // (the order is by A's point, then B's box).
+            pairApart.emplace_back((uint64_t(c.nodeA / 8) << 32) | c.boxB, isApart);
         }
+        std::sort(pairApart.begin(), pairApart.end());
+        pairApart.erase(
+            std::unique(pairApart.begin(), pairApart.end(),
+                        [](const auto& x, const auto& y) { return x.first == y.first; }),
+            pairApart.end());
+        frameApart.pairs = (long long)pairApart.size();
+        for (const auto& [key, isApart] : pairApart) frameApart.apartPairs += isApart;
         apart.contacts += frameApart.contacts, apart.pairs += frameApart.pairs;
         apart.apartContacts += frameApart.apartContacts, apart.apartPairs += frameApart.apartPairs;
         apart.overlapping += frameApart.overlapping;
