@@ -107,13 +107,12 @@ void SpatialHash::build(Workers* workers) {
         Bucket& b = buckets_[bucketOf_[n]];
         if (b.stamp != stamp_) {
             b.stamp = stamp_;
-            b.count = 0;
-            b.soleOwner = e.owner;
+            b.count = b.headRun = b.tailRun = 0;
+            b.headOwner = b.tailOwner = e.owner;
             touched.push_back(bucketOf_[n]);
-        } else if (b.soleOwner != e.owner) {
-            b.soleOwner = kMixed;
         }
-        slotOf_[n] = b.count++;
+        slotOf_[n] = b.count;
+        b.push(e.owner);
     };
     forParts([&](size_t part) {
         std::vector<uint32_t>& touched = touchedBy_[part];

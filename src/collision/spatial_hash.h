@@ -2,9 +2,10 @@
 //
 // Reference: M. Teschner, B. Heidelberger, M. Mueller, D. Pomeranets, M. Gross, "Optimized
 // Spatial Hashing for Collision Detection of Deformable Objects", VMV 2003. A point p falls in
-// grid cell floor(p / l); cell (i,j,k) maps to bucket (i*73856093 xor j*19349663 xor
-// k*83492791) mod T with T prime. Buckets carry a timestamp instead of being cleared, so a
-// step costs nothing for the buckets it does not touch.
+// grid cell floor(p / l); cell (i,j,k) maps to bucket cellHash(i,j,k) mod T with T prime (the
+// paper's hash of the coordinates xor-ed mixed too little: cellHash). Buckets carry a
+// timestamp instead of being cleared, so a step costs nothing for the buckets it does not
+// touch.
 //
 // The table is filled in two passes (count, then place: a counting sort into the touched
 // buckets), so each bucket's entries lie contiguous in memory and a query scans an array
@@ -159,16 +160,18 @@ public:
                        });
     }
 
-    /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. A
-    /// bucket holding only that owner's items is passed over without reading them (most cells
-    /// a box visits hold only its own object's nodes).
+    /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. That
+    /// owner's run at either end of the bucket is passed over without reading it (Bucket).
     template <class F>
     void forEachInCell(int32_t i, int32_t j, int32_t k, uint32_t skipOwner, F&& f) const {
         const Bucket& b = buckets_[bucket(i, j, k)];
-        if (b.stamp != stamp_ || b.soleOwner == skipOwner) return;
-        const Entry* e = entries_.data() + b.start;
-        for (uint32_t n = 0; n < b.count; ++n)
-            if (e[n].owner != skipOwner && e[n].i == i && e[n].j == j && e[n].k == k) f(e[n]);
+        if (b.stamp != stamp_) return;
+        uint32_t first, end;
+        b.unskipped(skipOwner, first, end);
+        for (uint32_t n = first; n < end; ++n) {
+            const Entry& e = entries_[n];
+            if (e.owner != skipOwner && e.i == i && e.j == j && e.k == k) f(e);
+        }
     }
 
     static constexpr uint32_t kNoOwner = UINT32_MAX;
@@ -189,7 +192,7 @@ public:
         uint32_t hs[kBatch];
         int32_t cs[kBatch][3];
         int n = 0;
-        const Bucket* live[kBatch];
+        uint32_t liveFirst[kBatch], liveEnd[kBatch];
         int liveCell[kBatch];
         auto flush = [&] {
             // Second level: the buckets that hold anything of interest, their entries
@@ -197,21 +200,21 @@ public:
             int lives = 0;
             for (int m = 0; m < n; ++m) {
                 const Bucket& b = buckets_[hs[m]];
-                if (b.stamp != stamp_ || b.soleOwner == skipOwner) continue;
-                __builtin_prefetch(probes_.data() + b.start);
-                live[lives] = &b;
+                if (b.stamp != stamp_) continue;
+                uint32_t first, end;
+                b.unskipped(skipOwner, first, end);
+                if (end <= first) continue;
+                __builtin_prefetch(probes_.data() + first);
+                liveFirst[lives] = first;
+                liveEnd[lives] = end;
                 liveCell[lives++] = m;
             }
             for (int l = 0; l < lives; ++l) {
-                const Bucket& b = *live[l];
                 const int32_t* c = cs[liveCell[l]];
-                const Entry* e = entries_.data() + b.start;
-                const Probe* probe = probes_.data() + b.start;
-                for (uint32_t q = 0; q < b.count; ++q) {
-                    if (!probe[q].meets(lo, hi)) continue;
-                    if (e[q].owner != skipOwner && e[q].i == c[0] && e[q].j == c[1] &&
-                        e[q].k == c[2])
-                        f(e[q]);
+                for (uint32_t q = liveFirst[l]; q < liveEnd[l]; ++q) {
+                    if (!probes_[q].meets(lo, hi)) continue;
+                    const Entry& e = entries_[q];
+                    if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2]) f(e);
                 }
             }
             n = 0;
@@ -227,6 +230,21 @@ public:
         flush();
     }
 
+    /// The hash of cell (i, j, k): each coordinate times an odd 64-bit constant, xor-ed, then
+    /// one multiply-xorshift round (splitmix64's finaliser) so that every bit of the three
+    /// reaches the low 32. Teschner et al.'s i·73856093 ⊕ j·19349663 ⊕ k·83492791 sent a
+    /// third of the entries a dense pile's queries scan to buckets shared with other cells
+    /// (docs/ALGORITHM.md §4, phase 2).
+    static uint32_t cellHash(int32_t i, int32_t j, int32_t k) {
+        uint64_t x = (uint64_t(uint32_t(i)) * 0x9E3779B97F4A7C15ull) ^
+                     (uint64_t(uint32_t(j)) * 0xC2B2AE3D27D4EB4Full) ^
+                     (uint64_t(uint32_t(k)) * 0x165667B19E3779F9ull);
+        x ^= x >> 29;
+        x *= 0xBF58476D1CE4E5B9ull;
+        x ^= x >> 32;
+        return uint32_t(x);
+    }
+
     int32_t cell(float v) const { return int32_t(std::floor(v * inverseCellSize_)); }
     float cellSize() const { return cellSize_; }
     size_t tableSize() const { return buckets_.size(); }
@@ -234,18 +252,37 @@ public:
     size_t wideCount() const { return wide_.size(); } ///< items kept apart (kMaxCopies)
 
 private:
+    /// A bucket's entries, and the runs of one owner at its head and its tail (in the order
+    /// added): a query skips the querying owner's run unread, which is the whole bucket for most
+    /// cells a box visits (its own object's nodes) and one end of it for most of the rest (the
+    /// owners added in order).
     struct Bucket {
         uint32_t stamp = 0;
         uint32_t start = 0;
         uint32_t count = 0;
-        uint32_t soleOwner = kMixed; ///< the one owner of all its items, or kMixed
+        uint32_t headOwner = kNoOwner, headRun = 0;
+        uint32_t tailOwner = kNoOwner, tailRun = 0;
+        /// Counts one more entry, of `owner`, at the tail.
+        void push(uint32_t owner) {
+            if (owner == tailOwner) {
+                if (headRun == count) ++headRun;
+                ++tailRun;
+            } else {
+                tailOwner = owner;
+                tailRun = 1;
+            }
+            ++count;
+        }
+        /// The entries [first, end) left when the runs of `skip` at either end are taken off
+        /// (end <= first: none).
+        void unskipped(uint32_t skip, uint32_t& first, uint32_t& end) const {
+            first = start + (headOwner == skip ? headRun : 0);
+            end = start + count - (tailOwner == skip ? tailRun : 0);
+        }
     };
-    static constexpr uint32_t kMixed = UINT32_MAX - 1;
 
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
-        const uint32_t h =
-            (uint32_t(i) * 73856093u) ^ (uint32_t(j) * 19349663u) ^ (uint32_t(k) * 83492791u);
-        return fastMod(h, modMagic_, tableSize_);
+        return fastMod(cellHash(i, j, k), modMagic_, tableSize_);
     }
 
     /// An entry's position and its owner's reach, beside entries_ (the same index): what a
