@@ -106,9 +106,7 @@ void SpatialHash::build(Workers* workers) {
         const Entry& e = staged_[n];
         Bucket& b = buckets_[bucketOf_[n]];
         if (b.stamp != stamp_) {
-            b.stamp = stamp_;
-            b.count = b.headRun = b.tailRun = 0;
-            b.headOwner = b.tailOwner = e.owner;
+            b.open(stamp_, e.owner);
             touched.push_back(bucketOf_[n]);
         }
         slotOf_[n] = b.count;

@@ -262,6 +262,12 @@ private:
         uint32_t count = 0;
         uint32_t headOwner = kNoOwner, headRun = 0;
         uint32_t tailOwner = kNoOwner, tailRun = 0;
+        /// Empties the bucket for step `now`; its first entry will be `owner`'s.
+        void open(uint32_t now, uint32_t owner) {
+            stamp = now;
+            count = headRun = tailRun = 0;
+            headOwner = tailOwner = owner;
+        }
         /// Counts one more entry, of `owner`, at the tail.
         void push(uint32_t owner) {
             if (owner == tailOwner) {
