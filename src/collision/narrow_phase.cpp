@@ -3,6 +3,9 @@
 // Deformable Objects", 2012.
 #include "collision/narrow_phase.h"
 
+#include "dynamics/simd4.h"
+#include "util/unwritten.h"
+
 #include <cmath>
 
 namespace ffd::detail {
@@ -121,6 +124,31 @@ int clipPolygon(const ClipVertex* in, int count, Vec3 n, float offset, ClipVerte
     return kept;
 }
 
+// The least signed distance of `nodes` (8) from each face plane of `planes`, into out[0..5]
+// (out[6..7]: padding): for each plane, minNum over the nodes in order of dot(normal, node) -
+// offset, the six planes in the lanes of two vectors. The same sums in the same order as one
+// plane at a time, so the same values.
+void leastSeparations(const BoxPlanes& planes, const Vec3* nodes, float out[8]) {
+    const Vec3* n = planes.normal;
+    const float* o = planes.offset;
+    const F4 nx[2] = {{n[0].x, n[1].x, n[2].x, n[3].x}, {n[4].x, n[5].x, 0, 0}};
+    const F4 ny[2] = {{n[0].y, n[1].y, n[2].y, n[3].y}, {n[4].y, n[5].y, 0, 0}};
+    const F4 nz[2] = {{n[0].z, n[1].z, n[2].z, n[3].z}, {n[4].z, n[5].z, 0, 0}};
+    const F4 offset[2] = {{o[0], o[1], o[2], o[3]}, {o[4], o[5], 0, 0}};
+    F4 least[2] = {splat(INFINITY), splat(INFINITY)};
+    for (int k = 0; k < 8; ++k) {
+        const F4 px = splat(nodes[k].x), py = splat(nodes[k].y), pz = splat(nodes[k].z);
+        for (int h = 0; h < 2; ++h) {
+            const F4 d = nx[h] * px + ny[h] * py + nz[h] * pz - offset[h];
+            // minNum(least, d) lane by lane: least unless d is smaller (or least is NaN and d
+            // is not).
+            least[h] = select((least[h] <= d) | (d != d), least[h], d);
+        }
+    }
+    store4(out, least[0]);
+    store4(out + 4, least[1]);
+}
+
 } // namespace
 
 BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, float margin,
@@ -129,21 +157,17 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     const BoxView* boxes[2] = {&first, &second};
     // Separation of the other box from each face plane of each box: the least signed distance
     // of the other's nodes.
-    float separation[2][6];
+    float separation[2][8];
+    for (int r = 0; r < 2; ++r)
+        leastSeparations(*boxes[r]->planes, boxes[1 - r]->nodes, separation[r]);
     float farthest = -INFINITY;
     int farthestBox = 0, farthestFace = 0;
-    for (int r = 0; r < 2; ++r) {
-        const BoxPlanes& planes = *boxes[r]->planes;
-        const Vec3* other = boxes[1 - r]->nodes;
+    for (int r = 0; r < 2; ++r)
         for (int f = 0; f < 6; ++f) {
-            float s = INFINITY;
-            for (int k = 0; k < 8; ++k)
-                s = minNum(s, dot(planes.normal[f], other[k]) - planes.offset[f]);
+            const float s = separation[r][f];
             if (!(s < margin)) return m; // apart along this plane by more than the margin
-            separation[r][f] = s;
             if (s > farthest) farthest = s, farthestBox = r, farthestFace = f;
         }
-    }
     auto exits = [&](int r) { return exitFaces(boxes[r]->outsideFaces); };
     // Apart along a plane that leads into the neighbouring cell of its body: that cell's box
     // is what the other box meets.
@@ -181,7 +205,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
         const float d = dot(inc.planes->normal[g], n);
         if (d < opposed) opposed = d, incident = g;
     }
-    ClipVertex polygon[2][16];
+    Unwritten<ClipVertex, 16> polygon[2];
     int count = 4;
     for (int k = 0; k < 4; ++k) {
         const int node = kFaceNodes[incident][k];
@@ -190,11 +214,11 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     int cur = 0;
     for (int side = 0; side < 6 && count > 0; ++side) {
         if ((side >> 1) == (m.face >> 1)) continue;
-        count = clipPolygon(polygon[cur], count, ref.planes->normal[side], ref.planes->offset[side],
-                            polygon[1 - cur]);
+        count = clipPolygon(polygon[cur].data(), count, ref.planes->normal[side],
+                            ref.planes->offset[side], polygon[1 - cur].data());
         cur = 1 - cur;
     }
-    ManifoldPoint found[16];
+    Unwritten<ManifoldPoint, 16> found;
     int kept = 0;
     for (int k = 0; k < count; ++k) {
         const float d = dot(n, polygon[cur][k].position) - offset;

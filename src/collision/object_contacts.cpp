@@ -7,6 +7,7 @@
 #include "collision/margins.h"
 #include "collision/overlap_recovery.h"
 #include "collision/pipeline.h"
+#include "util/unwritten.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,8 +87,8 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
     for (const uint64_t key : keys) {
         const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
         uint32_t body[2];
-        BoxView view[2];
-        const uint32_t* cell[2]; // each box's cell's 8 particles, body-local
+        Unwritten<BoxView, 2> view; // every field written below
+        const uint32_t* cell[2];    // each box's cell's 8 particles, body-local
         for (int k = 0; k < 2; ++k) {
             body[k] = s.boxBody[box[k]];
             const CollisionBody& r = w.bodies[body[k]];
