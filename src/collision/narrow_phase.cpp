@@ -131,15 +131,16 @@ int clipPolygon(const ClipVertex* in, int count, Vec3 n, float offset, ClipVerte
 void leastSeparations(const BoxPlanes& planes, const Vec3* nodes, float out[8]) {
     const Vec3* n = planes.normal;
     const float* o = planes.offset;
-    const F4 nx[2] = {{n[0].x, n[1].x, n[2].x, n[3].x}, {n[4].x, n[5].x, 0, 0}};
-    const F4 ny[2] = {{n[0].y, n[1].y, n[2].y, n[3].y}, {n[4].y, n[5].y, 0, 0}};
-    const F4 nz[2] = {{n[0].z, n[1].z, n[2].z, n[3].z}, {n[4].z, n[5].z, 0, 0}};
+    const V4 normal[2] = {{{n[0].x, n[1].x, n[2].x, n[3].x},
+                           {n[0].y, n[1].y, n[2].y, n[3].y},
+                           {n[0].z, n[1].z, n[2].z, n[3].z}},
+                          {{n[4].x, n[5].x, 0, 0}, {n[4].y, n[5].y, 0, 0}, {n[4].z, n[5].z, 0, 0}}};
     const F4 offset[2] = {{o[0], o[1], o[2], o[3]}, {o[4], o[5], 0, 0}};
     F4 least[2] = {splat(INFINITY), splat(INFINITY)};
     for (int k = 0; k < 8; ++k) {
-        const F4 px = splat(nodes[k].x), py = splat(nodes[k].y), pz = splat(nodes[k].z);
+        const V4 node{splat(nodes[k].x), splat(nodes[k].y), splat(nodes[k].z)};
         for (int h = 0; h < 2; ++h) {
-            const F4 d = nx[h] * px + ny[h] * py + nz[h] * pz - offset[h];
+            const F4 d = dot(normal[h], node) - offset[h];
             // minNum(least, d) lane by lane: least unless d is smaller (or least is NaN and d
             // is not).
             least[h] = select((least[h] <= d) | (d != d), least[h], d);
