@@ -265,7 +265,9 @@ int main(int argc, char** argv) {
                             for (auto it = first; it != last; ++it) {
                                 contact = true;
                                 pushes.push_back(it->second->normal * sign);
-                                residual = std::min(residual, detail::separation(*it->second, w.x));
+                                residual = std::min(
+                                    residual,
+                                    detail::separation(*it->second, w.collision.boxParticles, w.x));
                             }
                         };
                         push((uint64_t(ownBox) << 32) | k, 1.0f);

@@ -12,12 +12,15 @@ void rebuildCollisionTopology(CollisionWorld& w) {
     const size_t boxes = w.boxBounds.size();
     s.boxBody.resize(boxes);
     s.nodeBody.resize(boxes * 8);
+    s.boxParticles.resize(boxes);
     s.planes.resize(boxes);
     for (uint32_t b = 0; b < w.bodies.size(); ++b) {
         const CollisionBody& r = w.bodies[b];
         for (uint32_t k = r.firstBox; k < r.firstBox + r.boxCount; ++k) {
             s.boxBody[k] = b;
             for (int n = 0; n < 8; ++n) s.nodeBody[size_t(k) * 8 + n] = b;
+            const auto& corners = r.lattice->cellParticles[r.lattice->boxes[k - r.firstBox].cell];
+            for (int n = 0; n < 8; ++n) s.boxParticles[k][n] = r.firstParticle + corners[n];
         }
     }
     s.isCandidate.assign(w.bodies.size(), 0);

@@ -43,6 +43,7 @@
 #include "ffdaabb/math.h"
 #include "util/workers.h"
 
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -52,10 +53,29 @@
 
 namespace ffd::detail {
 
-/// An embedded point: 8 particles (world-wide indices) and their trilinear weights.
+/// The 8 corner particles of a box's cell (world-wide indices, corner i + 2j + 4k), per
+/// world-wide box (CollisionState::boxParticles).
+using BoxParticles = std::array<uint32_t, 8>;
+
+/// An embedded point: a box (world-wide index) and local coordinates in its cell; its particles
+/// are the box's cell's corners, with the trilinear weights of `local`. The weights are made
+/// again wherever the point is read (PointWeights) rather than stored: a contact is 96 bytes
+/// smaller, and the solver's sweeps, which read each contact several times a substep, are
+/// bound by memory once a scene's contacts outgrow the cache (docs/BENCHMARKS.md).
 struct ContactPoint {
-    uint32_t particle[8] = {};
-    float weight[8] = {};
+    uint32_t box = 0;
+    Vec3 local;
+};
+
+/// A point's particles and weights, as the solver uses them.
+struct PointWeights {
+    const uint32_t* particle = nullptr; ///< 8, in the box table
+    float weight[8];
+    PointWeights() = default;
+    PointWeights(const ContactPoint& p, std::span<const BoxParticles> boxes)
+        : particle(boxes[p.box].data()) {
+        trilinearWeights(p.local, weight);
+    }
 };
 
 struct Contact {
@@ -124,17 +144,33 @@ using ContactList = std::vector<Contact, UnwrittenAllocator<Contact>>;
 
 /// An embedded point's value: the trilinear blend of its particles' `values` (positions or
 /// velocities).
-inline Vec3 blend(const ContactPoint& p, std::span<const Vec3> values) {
+inline Vec3 blend(const PointWeights& p, std::span<const Vec3> values) {
     Vec3 r{};
     for (int k = 0; k < 8; ++k) r += values[p.particle[k]] * p.weight[k];
     return r;
 }
+inline Vec3 blend(const ContactPoint& p, std::span<const BoxParticles> boxes,
+                  std::span<const Vec3> values) {
+    return blend(PointWeights(p, boxes), values);
+}
+
+/// A contact's two points' particles and weights (b unset for the floor).
+struct ContactWeights {
+    PointWeights a, b;
+    ContactWeights(const Contact& c, std::span<const BoxParticles> boxes) : a(c.a, boxes) {
+        if (c.hasB) b = PointWeights(c.b, boxes);
+    }
+};
 
 /// The contact's constraint C = (pA - pB) . n - offset on positions x: its points' separation
 /// along the normal (negative: overlap).
-inline float separation(const Contact& c, std::span<const Vec3> x) {
-    const Vec3 pb = c.hasB ? blend(c.b, x) : Vec3{};
-    return dot(blend(c.a, x) - pb, c.normal) - c.offset;
+inline float separation(const Contact& c, const ContactWeights& w, std::span<const Vec3> x) {
+    const Vec3 pb = c.hasB ? blend(w.b, x) : Vec3{};
+    return dot(blend(w.a, x) - pb, c.normal) - c.offset;
+}
+inline float separation(const Contact& c, std::span<const BoxParticles> boxes,
+                        std::span<const Vec3> x) {
+    return separation(c, ContactWeights(c, boxes), x);
 }
 
 /// Sort key giving every contact set the same order whichever pipeline found it: by A's node,
@@ -143,8 +179,9 @@ inline uint64_t contactKey(const Contact& c) {
     return (uint64_t(c.nodeA) << 32) | c.boxB;
 }
 
-/// Fills weights and generalised inverse mass of an embedded point.
-void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
+/// Makes the embedded point at `local` in world-wide box `box`, and its generalised inverse
+/// mass sum w^2 / m.
+void makeContactPoint(uint32_t box, Vec3 local, std::span<const BoxParticles> boxes,
                       std::span<const float> invMass, ContactPoint& out, float& outInvMass);
 
 /// The order in which the sweeps visit the contacts, for every thread count the same. The
@@ -186,9 +223,10 @@ std::string scheduleProblem(std::span<const Contact> contacts, const SolverSched
 
 /// What is wrong with the contacts between `bodyCount` bodies, body b owning the particles
 /// [firstParticle[b], firstParticle[b] + particleCount[b]) (empty: nothing): bodies in range
-/// and distinct, points on their own bodies' particles with finite weights summing to 1.
-std::string contactProblem(std::span<const Contact> contacts, size_t bodyCount,
-                           std::span<const uint32_t> firstParticle,
+/// and distinct, points in boxes of the table with finite coordinates, on their own bodies'
+/// particles.
+std::string contactProblem(std::span<const Contact> contacts, std::span<const BoxParticles> boxes,
+                           size_t bodyCount, std::span<const uint32_t> firstParticle,
                            std::span<const uint32_t> particleCount);
 
 /// Scratch of the position and velocity sweeps: each contact's slack after the first sweep,
@@ -245,9 +283,10 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
 /// bodies' particles. maxSeparationSpeed > 0 bounds how fast the phase may push two bodies'
 /// rigid motions apart at a contact (0: no bound). Records approachSpeed and rigidImpulse of
 /// every contact.
-void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
-                     std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
-                     std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                     std::vector<RigidState>& states, std::vector<RigidPoint>& points,
+                     std::span<const Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                     std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
                      float maxSeparationSpeed, int iterations, SolverScratch& scratch,
                      Workers& workers);
@@ -260,25 +299,28 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
 /// particles then move by the bodies' moves (rotations exact), velocities following; each
 /// contact's rigidImpulse gains the normal impulse and rigidFriction holds the tangential one,
 /// which the velocity pass's friction limit counts.
-void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& states,
-                       std::vector<RigidPoint>& points, std::span<Vec3> x, std::span<Vec3> v,
-                       std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+void projectRigidModes(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                       std::vector<RigidState>& states, std::vector<RigidPoint>& points,
+                       std::span<Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                       std::span<const uint32_t> firstParticle,
                        std::span<const uint32_t> particleCount, float dt, float share,
                        int iterations, SolverScratch& scratch, Workers& workers);
 
 /// Steps 0 and 2: Gauss-Seidel position projection of C >= tolerated; velocities follow the
 /// corrections unless `v` is empty (pre-stabilisation).
-void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
-                           std::span<const float> invMass, float dt, int iterations,
-                           size_t bodyCount, SolverScratch& scratch, Workers& workers);
+void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                           std::span<Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                           float dt, int iterations, size_t bodyCount, SolverScratch& scratch,
+                           Workers& workers);
 
 /// Step 3: the speculative normal bound, restitution (approaches faster than bounceThreshold)
 /// and Coulomb friction. Returns the deepest remaining violation of the contacts' constraints
 /// (metres, >= 0; the positions do not change in this step).
-float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
-                             std::span<Vec3> v, std::span<const float> invMass, float dt,
-                             float bounceThreshold, int iterations, size_t bodyCount,
-                             SolverScratch& scratch, Workers& workers);
+float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                             std::span<const Vec3> x, std::span<Vec3> v,
+                             std::span<const float> invMass, float dt, float bounceThreshold,
+                             int iterations, size_t bodyCount, SolverScratch& scratch,
+                             Workers& workers);
 
 /// An object pair that passed the bounding-sphere test (dense body indices, a < b).
 struct CandidatePair {
@@ -367,6 +409,7 @@ struct CollisionState {
         return {all.data() + objectCount, all.size() - objectCount};
     }
     std::vector<uint32_t> nodeBody, boxBody; ///< world-wide node/box -> dense body
+    std::vector<BoxParticles> boxParticles;  ///< per world-wide box, for the contact points
     std::vector<RigidState> rigid;           ///< per body, for the rigid phase
     std::vector<uint32_t> bodyFirstParticle, bodyParticleCount;
     std::vector<RigidPoint> rigidPoints;

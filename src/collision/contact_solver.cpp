@@ -14,7 +14,7 @@ namespace ffd::detail {
 namespace {
 
 // Moves the point by `delta` (generalised-inverse-mass weighted).
-void push(const ContactPoint& p, std::span<Vec3> values, std::span<const float> invMass,
+void push(const PointWeights& p, std::span<Vec3> values, std::span<const float> invMass,
           Vec3 delta) {
     for (int k = 0; k < 8; ++k) {
         const uint32_t i = p.particle[k];
@@ -118,14 +118,13 @@ void setNormalResponse(const Contact& c, std::span<const RigidState> states, Vec
 
 } // namespace
 
-void makeContactPoint(const uint32_t cellParticles[8], uint32_t firstParticle, Vec3 local,
+void makeContactPoint(uint32_t box, Vec3 local, std::span<const BoxParticles> boxes,
                       std::span<const float> invMass, ContactPoint& out, float& outInvMass) {
-    trilinearWeights(local, out.weight);
+    out.box = box;
+    out.local = local;
+    const PointWeights p(out, boxes);
     outInvMass = 0;
-    for (int k = 0; k < 8; ++k) {
-        out.particle[k] = firstParticle + cellParticles[k];
-        outInvMass += out.weight[k] * out.weight[k] * invMass[out.particle[k]];
-    }
+    for (int k = 0; k < 8; ++k) outInvMass += p.weight[k] * p.weight[k] * invMass[p.particle[k]];
 }
 
 void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
@@ -270,23 +269,21 @@ std::string scheduleProblem(std::span<const Contact> contacts, const SolverSched
     return {};
 }
 
-std::string contactProblem(std::span<const Contact> contacts, size_t bodyCount,
-                           std::span<const uint32_t> firstParticle,
+std::string contactProblem(std::span<const Contact> contacts, std::span<const BoxParticles> boxes,
+                           size_t bodyCount, std::span<const uint32_t> firstParticle,
                            std::span<const uint32_t> particleCount) {
     auto say = [](const char* what, size_t n, size_t v) {
         return std::string(what) + " (contact " + std::to_string(n) + ": " + std::to_string(v) +
                ")";
     };
     auto pointProblem = [&](const ContactPoint& p, uint32_t body) -> const char* {
-        float sum = 0;
-        for (int k = 0; k < 8; ++k) {
-            if (!std::isfinite(p.weight[k])) return "weight not finite";
-            if (p.particle[k] < firstParticle[body] ||
-                p.particle[k] >= firstParticle[body] + particleCount[body])
+        if (p.box >= boxes.size()) return "box out of range";
+        if (!std::isfinite(p.local.x) || !std::isfinite(p.local.y) || !std::isfinite(p.local.z))
+            return "local coordinates not finite";
+        for (const uint32_t i : boxes[p.box])
+            if (i < firstParticle[body] || i >= firstParticle[body] + particleCount[body])
                 return "point on another body's particle";
-            sum += p.weight[k];
-        }
-        return std::abs(sum - 1.0f) < 1e-3f ? nullptr : "weights do not sum to 1";
+        return nullptr;
     };
     for (size_t n = 0; n < contacts.size(); ++n) {
         const Contact& c = contacts[n];
@@ -339,9 +336,10 @@ void prepareRigidStates(std::span<const Vec3> x, std::span<const Vec3> v,
     }
 }
 
-void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& states,
-                     std::vector<RigidPoint>& points, std::span<const Vec3> x, std::span<Vec3> v,
-                     std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                     std::vector<RigidState>& states, std::vector<RigidPoint>& points,
+                     std::span<const Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                     std::span<const uint32_t> firstParticle,
                      std::span<const uint32_t> particleCount, float dt, float impactThreshold,
                      float maxSeparationSpeed, int iterations, SolverScratch& scratch,
                      Workers& workers) {
@@ -362,7 +360,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
     // Every contact's approach (the velocity pass reads it too), and the impacts kept.
     selectInZones(schedule, workers, impacts, impactEnd, [&](uint32_t k) {
         Contact& c = contacts[k];
-        const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        const Vec3 rel = blend(c.a, boxes, v) - (c.hasB ? blend(c.b, boxes, v) : Vec3{});
         c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
         c.rigidFriction = 0;
@@ -398,7 +396,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
         p.rigidity = rigidityOf(c);
         p.normalImpulse = 0;
         const RigidState& A = states[c.bodyA];
-        const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
+        const Vec3 pa = blend(c.a, boxes, x), pb = c.hasB ? blend(c.b, boxes, x) : Vec3{};
         setNormalResponse(c, states, pa, pb, p);
         // The approach that would close more than the gap this substep, scaled by the
         // rigidity: the rest is left to the particle-level projection (deformation). Normal
@@ -468,9 +466,10 @@ void solveRigidPhase(std::span<Contact> contacts, std::vector<RigidState>& state
     });
 }
 
-void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& states,
-                       std::vector<RigidPoint>& points, std::span<Vec3> x, std::span<Vec3> v,
-                       std::span<const float> invMass, std::span<const uint32_t> firstParticle,
+void projectRigidModes(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                       std::vector<RigidState>& states, std::vector<RigidPoint>& points,
+                       std::span<Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                       std::span<const uint32_t> firstParticle,
                        std::span<const uint32_t> particleCount, float dt, float share,
                        int iterations, SolverScratch& scratch, Workers& workers) {
     const SolverSchedule& schedule = scratch.schedule;
@@ -553,7 +552,7 @@ void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& sta
             const Contact& c = contacts[n];
             RigidPoint& p = points[n];
             const RigidState& A = states[c.bodyA];
-            const Vec3 pa = blend(c.a, x), pb = c.hasB ? blend(c.b, x) : Vec3{};
+            const Vec3 pa = blend(c.a, boxes, x), pb = c.hasB ? blend(c.b, boxes, x) : Vec3{};
             p.normalImpulse = 0;
             p.tangent = {};
             p.rA = pa - A.centre;
@@ -566,7 +565,7 @@ void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& sta
             // push-out; overlap_recovery.h).
             auto rigidVelocity = [&](const RigidState& r, const ContactPoint& q, Vec3 at) {
                 return r.active ? r.velocity + cross(r.angularVelocity, at - r.centre)
-                                : blend(q, v); // immovable: its particles move rigidly
+                                : blend(q, boxes, v); // immovable: its particles move rigidly
             };
             Vec3 rel = rigidVelocity(A, c.a, pa);
             if (c.hasB) rel -= rigidVelocity(states[c.bodyB], c.b, pb);
@@ -611,23 +610,25 @@ void projectRigidModes(std::span<Contact> contacts, std::vector<RigidState>& sta
     });
 }
 
-void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::span<Vec3> v,
-                           std::span<const float> invMass, float dt, int iterations,
-                           size_t bodyCount, SolverScratch& scratch, Workers& workers) {
+void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                           std::span<Vec3> x, std::span<Vec3> v, std::span<const float> invMass,
+                           float dt, int iterations, size_t bodyCount, SolverScratch& scratch,
+                           Workers& workers) {
     const SolverSchedule& schedule = scratch.schedule;
     const float invDt = 1.0f / dt;
     const bool follow = !v.empty();
     auto sweep = [&](Contact& c) {
-        const float C = separation(c, x) - c.tolerated;
+        const ContactWeights w(c, boxes);
+        const float C = separation(c, w, x) - c.tolerated;
         const float W = c.invMassA + c.invMassB;
         if (C >= 0 || !(W > 0)) return C;
         const float lambda = -C / W;
-        push(c.a, x, invMass, c.normal * lambda);
-        if (c.hasB) push(c.b, x, invMass, c.normal * -lambda);
+        push(w.a, x, invMass, c.normal * lambda);
+        if (c.hasB) push(w.b, x, invMass, c.normal * -lambda);
         if (follow) {
             c.positionImpulse += lambda * invDt;
-            push(c.a, v, invMass, c.normal * (lambda * invDt));
-            if (c.hasB) push(c.b, v, invMass, c.normal * (-lambda * invDt));
+            push(w.a, v, invMass, c.normal * (lambda * invDt));
+            if (c.hasB) push(w.b, v, invMass, c.normal * (-lambda * invDt));
         }
         return C;
     };
@@ -667,10 +668,11 @@ void solveContactPositions(std::span<Contact> contacts, std::span<Vec3> x, std::
                    [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
 }
 
-float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> x,
-                             std::span<Vec3> v, std::span<const float> invMass, float dt,
-                             float bounceThreshold, int iterations, size_t bodyCount,
-                             SolverScratch& scratch, Workers& workers) {
+float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
+                             std::span<const Vec3> x, std::span<Vec3> v,
+                             std::span<const float> invMass, float dt, float bounceThreshold,
+                             int iterations, size_t bodyCount, SolverScratch& scratch,
+                             Workers& workers) {
     const SolverSchedule& schedule = scratch.schedule;
     const float invDt = 1.0f / dt;
     // One sweep step for contact c; returns its slack: how much faster its points would have to
@@ -678,10 +680,10 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     std::vector<float>& change = scratch.bodyReach; // per body, the largest in the first sweep
     change.assign(bodyCount, 0.0f);
     bool firstSweep = true;
-    auto sweep = [&](Contact& c) {
+    auto sweep = [&](Contact& c, const ContactWeights& w) {
         const float W = c.invMassA + c.invMassB;
         if (!(W > 0)) return INFINITY;
-        const Vec3 rel = blend(c.a, v) - (c.hasB ? blend(c.b, v) : Vec3{});
+        const Vec3 rel = blend(w.a, v) - (c.hasB ? blend(w.b, v) : Vec3{});
         const float vn = dot(rel, c.normal);
         // Close at most the remaining gap next substep (speculative); bounce back fast
         // impacts by the restitution.
@@ -705,8 +707,8 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
         }
         const bool acts = c.normalImpulse > 0 || limit > 0;
         if (!acts && oldNormal == 0) return vn - target; // nothing to apply
-        push(c.a, v, invMass, impulse);
-        if (c.hasB) push(c.b, v, invMass, -impulse);
+        push(w.a, v, invMass, impulse);
+        if (c.hasB) push(w.b, v, invMass, -impulse);
         if (firstSweep) {
             const float dv = length(impulse) * W;
             change[c.bodyA] = maxNum(change[c.bodyA], dv);
@@ -730,10 +732,11 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
             Contact& c = contacts[schedule.order[m]];
             c.normalImpulse = 0;
             c.tangentImpulse = {};
-            const float C = separation(c, x);
+            const ContactWeights w(c, boxes);
+            const float C = separation(c, w, x);
             c.gap = maxNum(C, 0.0f);
             d = maxNum(d, -C);
-            slack[schedule.order[m]] = sweep(c);
+            slack[schedule.order[m]] = sweep(c, w);
         }
         zoneDeepest[z] = d;
     });
@@ -743,8 +746,10 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const Vec3> 
     selectReachable(contacts, scratch, workers);
     firstSweep = false;
     for (int it = 1; it < iterations; ++it)
-        sweepZones(schedule, scratch.activeEnd, workers,
-                   [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
+        sweepZones(schedule, scratch.activeEnd, workers, [&](uint32_t m) {
+            Contact& c = contacts[scratch.active[m]];
+            sweep(c, ContactWeights(c, boxes));
+        });
     return deepest;
 }
 

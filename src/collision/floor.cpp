@@ -27,8 +27,8 @@ Contact planeContact(const CollisionWorld& w, uint32_t b, uint32_t k, int corner
     c.friction = r.friction;
     c.restitution = r.restitution;
     c.rigidity = r.contactRigidity;
-    makeContactPoint(r.lattice->cellParticles[box.cell].data(), r.firstParticle,
-                     box.nodeLocal(corner), w.invMass, c.a, c.invMassA);
+    makeContactPoint(r.firstBox + k, box.nodeLocal(corner), w.collision.boxParticles, w.invMass,
+                     c.a, c.invMassA);
     return c;
 }
 

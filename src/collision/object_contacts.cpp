@@ -63,12 +63,9 @@ Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA
     c.friction = combineFriction(A, B);
     c.restitution = maxNum(A.restitution, B.restitution);
     c.rigidity = 0.5f * (A.contactRigidity + B.contactRigidity);
-    const Lattice& LA = *A.lattice;
-    makeContactPoint(LA.cellParticles[LA.boxes[boxA - A.firstBox].cell].data(), A.firstParticle,
-                     localA, w.invMass, c.a, c.invMassA);
-    const Lattice& LB = *B.lattice;
-    makeContactPoint(LB.cellParticles[LB.boxes[box - B.firstBox].cell].data(), B.firstParticle,
-                     locateInBox(w, B, box, planes, q), w.invMass, c.b, c.invMassB);
+    const std::span<const BoxParticles> boxes = w.collision.boxParticles;
+    makeContactPoint(boxA, localA, boxes, w.invMass, c.a, c.invMassA);
+    makeContactPoint(box, locateInBox(w, B, box, planes, q), boxes, w.invMass, c.b, c.invMassB);
     return c;
 }
 
@@ -137,7 +134,9 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
                                           pt.position - m.normal * pt.distance, *view[ref].planes);
             c.nodeA = box[inc] * 8 + uint32_t(k);
             deepest = maxNum(deepest, -pt.distance);
-            closing = maxNum(closing, -dot(blend(c.a, w.v) - blend(c.b, w.v), c.normal));
+            closing = maxNum(
+                closing,
+                -dot(blend(c.a, s.boxParticles, w.v) - blend(c.b, s.boxParticles, w.v), c.normal));
             contacts.push_back(c);
         }
         // What the pair may claim: all its overlap, unless its boxes overlap least across

@@ -43,19 +43,19 @@ void respondBeforeMove(CollisionWorld& w, float dt) {
     if (s.all.empty()) return;
     scheduleContacts(w);
 #if FFD_CHECKS
-    const std::string contacts =
-        contactProblem(s.all, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount);
+    const std::string contacts = contactProblem(s.all, s.boxParticles, w.bodies.size(),
+                                                s.bodyFirstParticle, s.bodyParticleCount);
     FFD_CHECK(contacts.empty(), "contacts: " + contacts);
     const std::string schedule = scheduleProblem(s.all, s.solver.schedule, w.bodies.size());
     FFD_CHECK(schedule.empty(), "solver schedule: " + schedule);
 #endif
     const int iterations = w.settings.solverIterations;
-    solveContactPositions(s.all, w.x, {}, w.invMass, dt, iterations, w.bodies.size(), s.solver,
-                          w.workers);
+    solveContactPositions(s.all, s.boxParticles, w.x, {}, w.invMass, dt, iterations,
+                          w.bodies.size(), s.solver, w.workers);
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    solveRigidPhase(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
-                    s.bodyParticleCount, dt, impact, w.settings.maxSeparationSpeed, iterations,
-                    s.solver, w.workers);
+    solveRigidPhase(s.all, s.boxParticles, s.rigid, s.rigidPoints, w.x, w.v, w.invMass,
+                    s.bodyFirstParticle, s.bodyParticleCount, dt, impact,
+                    w.settings.maxSeparationSpeed, iterations, s.solver, w.workers);
 }
 
 float respondAfterMove(CollisionWorld& w, float dt) {
@@ -64,13 +64,13 @@ float respondAfterMove(CollisionWorld& w, float dt) {
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
     if (w.settings.rigidProjection > 0)
-        projectRigidModes(s.all, s.rigid, s.rigidPoints, w.x, w.v, w.invMass, s.bodyFirstParticle,
-                          s.bodyParticleCount, dt, w.settings.rigidProjection, iterations, s.solver,
-                          w.workers);
-    solveContactPositions(s.all, w.x, w.v, w.invMass, dt, iterations, w.bodies.size(), s.solver,
-                          w.workers);
-    return solveContactVelocities(s.all, w.x, w.v, w.invMass, dt, impact, iterations,
-                                  w.bodies.size(), s.solver, w.workers);
+        projectRigidModes(s.all, s.boxParticles, s.rigid, s.rigidPoints, w.x, w.v, w.invMass,
+                          s.bodyFirstParticle, s.bodyParticleCount, dt, w.settings.rigidProjection,
+                          iterations, s.solver, w.workers);
+    solveContactPositions(s.all, s.boxParticles, w.x, w.v, w.invMass, dt, iterations,
+                          w.bodies.size(), s.solver, w.workers);
+    return solveContactVelocities(s.all, s.boxParticles, w.x, w.v, w.invMass, dt, impact,
+                                  iterations, w.bodies.size(), s.solver, w.workers);
 }
 
 } // namespace ffd::detail

@@ -552,7 +552,7 @@ void World::contacts(std::vector<ContactInfo>& out) const {
         ContactInfo info;
         info.bodyA = w.handleOf(c.bodyA);
         if (c.hasB) info.bodyB = w.handleOf(c.bodyB);
-        info.point = detail::blend(c.a, w.x);
+        info.point = detail::blend(c.a, w.collision.boxParticles, w.x);
         info.normal = c.normal;
         info.depth = c.depth();
         info.impulse = c.totalNormalImpulse();

@@ -802,9 +802,9 @@ TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
     const detail::SolverSchedule& real = s.solver.schedule;
     ASSERT_GT(real.colourStart.size(), 2u); // more than one colour
     EXPECT_EQ(detail::scheduleProblem(s.all, real, w.bodies.size()), "");
-    EXPECT_EQ(
-        detail::contactProblem(s.all, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount),
-        "");
+    EXPECT_EQ(detail::contactProblem(s.all, s.boxParticles, w.bodies.size(), s.bodyFirstParticle,
+                                     s.bodyParticleCount),
+              "");
 
     detail::SolverSchedule twice = real;
     twice.order[1] = twice.order[0];
@@ -826,9 +826,17 @@ TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
     EXPECT_EQ(detail::scheduleProblem(floor, shared, 2), "");
 
     std::vector<detail::Contact> stray(s.all.begin(), s.all.begin() + 2);
-    stray[1].a.particle[0] = uint32_t(w.x.size()); // beyond every body's particles
-    EXPECT_NE(
-        detail::contactProblem(stray, w.bodies.size(), s.bodyFirstParticle, s.bodyParticleCount)
-            .find("another body's particle"),
-        std::string::npos);
+    auto problem = [&] {
+        return detail::contactProblem(stray, s.boxParticles, w.bodies.size(), s.bodyFirstParticle,
+                                      s.bodyParticleCount);
+    };
+    stray[1].a.box = uint32_t(s.boxParticles.size()); // beyond every body's boxes
+    EXPECT_NE(problem().find("box out of range"), std::string::npos);
+    // A box of another body than the contact's A.
+    const detail::CollisionBody& other = s.bodies[stray[1].bodyA == 0 ? 1 : 0];
+    stray[1].a.box = other.firstBox;
+    EXPECT_NE(problem().find("another body's particle"), std::string::npos);
+    stray[1].a = s.all[1].a;
+    stray[1].a.local.y = NAN;
+    EXPECT_NE(problem().find("not finite"), std::string::npos);
 }
