@@ -233,15 +233,6 @@ TEST(RenderOutput, AFailedSequenceLeavesNothingBehind) {
 
 TEST(RenderOutput, CliRenderMakesTheOutFolder) {
     // `ffdaabb render --out DIR`: a path without an extension is a folder, made with its parents.
-#if defined(__SANITIZE_ADDRESS__)
-    // Under AddressSanitizer, LeakSanitizer's tracer crashes (signal 11, "LeakSanitizer has
-    // encountered a fatal error") at the exit of this render, forked from this test, on the
-    // Debian 12 packages installed on 2026-11-27; the same command from a shell or Python exits
-    // 0 with no report, and with detect_leaks=0 the test passes. The render's leaks stay
-    // checked by the in-process render tests (docs/LIMITS.md, "Fuzzing and sanitizers").
-    const std::string options = std::getenv("ASAN_OPTIONS") ? std::getenv("ASAN_OPTIONS") : "";
-    const ScopedEnv noLeakCheck("ASAN_OPTIONS", (options + ":detect_leaks=0").c_str());
-#endif
     TempDir dir;
     const fs::path out = dir / "a" / "new" / "folder";
     const RunResult r =
