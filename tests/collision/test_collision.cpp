@@ -789,6 +789,54 @@ TEST(BoxPairClaims, FollowTheirBoxesWhenABodyIsRemoved) {
     EXPECT_TRUE(world.isValid(lower) && world.isValid(upper) && world.isValid(beside));
 }
 
+// A contact point is its box and local coordinates; its particles come from the box table
+// (rebuilt when bodies come and go) and its weights are made where it is read. Checked against
+// the lattices themselves and a trilinear blend written out here, after a body is removed from
+// the middle of a pile (every later box renumbered) and another added.
+TEST(ContactPoints, TheBoxTableAndTheBlendsFollowTheLattices) {
+    Scene scene = loadScene("spheres");
+    scene.objects[0].count = 30;
+    SceneBuild build = buildScene(scene);
+    for (int f = 0; f < 40; ++f) build.world.step();
+    ASSERT_TRUE(build.world.removeBody(build.bodies[4]));
+    BodySettings above;
+    above.position = {0, 6, 0};
+    build.world.addBody(icosphere(2), above);
+    for (int f = 0; f < 40; ++f) build.world.step();
+    const detail::WorldData& w = detail::dataOf(build.world);
+    const detail::CollisionState& s = w.collision;
+    size_t boxes = 0;
+    for (const detail::CollisionBody& b : s.bodies) {
+        for (uint32_t k = 0; k < b.boxCount; ++k) {
+            const auto& corners = b.lattice->cellParticles[b.lattice->boxes[k].cell];
+            for (int n = 0; n < 8; ++n)
+                ASSERT_EQ(s.boxParticles[b.firstBox + k][n], b.firstParticle + corners[n]);
+        }
+        boxes += b.boxCount;
+    }
+    EXPECT_EQ(s.boxParticles.size(), boxes);
+    ASSERT_GT(s.objectCount, 10u); // the spheres lie on each other
+    auto blended = [&](const detail::ContactPoint& p) {
+        const Vec3 l = p.local;
+        Vec3 sum{};
+        for (int n = 0; n < 8; ++n) {
+            const float ws = (n & 1) ? l.x : 1 - l.x, wt = (n & 2) ? l.y : 1 - l.y;
+            const float wu = (n & 4) ? l.z : 1 - l.z;
+            sum += w.x[s.boxParticles[p.box][n]] * (ws * wt * wu);
+        }
+        return sum;
+    };
+    for (const detail::Contact& c : s.all) {
+        const Vec3 a = detail::blend(c.a, s.boxParticles, w.x);
+        EXPECT_LT(length(a - blended(c.a)), 1e-5f);
+        if (!c.hasB) continue;
+        const Vec3 b = detail::blend(c.b, s.boxParticles, w.x);
+        EXPECT_LT(length(b - blended(c.b)), 1e-5f);
+        EXPECT_FLOAT_EQ(detail::separation(c, s.boxParticles, w.x),
+                        dot(a - b, c.normal) - c.offset);
+    }
+}
+
 // The invariants FFD_CHECKS asserts after every schedule build: met by a real pile's contacts
 // and schedule, and each broken one found.
 TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
