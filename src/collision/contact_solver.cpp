@@ -552,7 +552,8 @@ void projectRigidModes(std::span<Contact> contacts, std::span<const BoxParticles
             const Contact& c = contacts[n];
             RigidPoint& p = points[n];
             const RigidState& A = states[c.bodyA];
-            const Vec3 pa = blend(c.a, boxes, x), pb = c.hasB ? blend(c.b, boxes, x) : Vec3{};
+            const ContactWeights cw(c, boxes);
+            const Vec3 pa = blend(cw.a, x), pb = c.hasB ? blend(cw.b, x) : Vec3{};
             p.normalImpulse = 0;
             p.tangent = {};
             p.rA = pa - A.centre;
@@ -563,12 +564,12 @@ void projectRigidModes(std::span<Contact> contacts, std::span<const BoxParticles
             // deformation (shape matching restoring a dent, bodies created overlapping), which
             // the particle-level passes push out without throwing the bodies apart (margins.h,
             // push-out; overlap_recovery.h).
-            auto rigidVelocity = [&](const RigidState& r, const ContactPoint& q, Vec3 at) {
+            auto rigidVelocity = [&](const RigidState& r, const PointWeights& q, Vec3 at) {
                 return r.active ? r.velocity + cross(r.angularVelocity, at - r.centre)
-                                : blend(q, boxes, v); // immovable: its particles move rigidly
+                                : blend(q, v); // immovable: its particles move rigidly
             };
-            Vec3 rel = rigidVelocity(A, c.a, pa);
-            if (c.hasB) rel -= rigidVelocity(states[c.bodyB], c.b, pb);
+            Vec3 rel = rigidVelocity(A, cw.a, pa);
+            if (c.hasB) rel -= rigidVelocity(states[c.bodyB], cw.b, pb);
             const float C = dot(pa - pb, c.normal) - c.offset;
             const float closing = maxNum(-dot(rel, c.normal), 0.0f) * dt;
             p.slip = (rel - c.normal * dot(rel, c.normal)) * dt;

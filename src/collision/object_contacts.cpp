@@ -85,12 +85,10 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         const uint32_t box[2] = {uint32_t(key >> 32), uint32_t(key)};
         uint32_t body[2];
         Unwritten<BoxView, 2> view; // every field written below
-        const uint32_t* cell[2];    // each box's cell's 8 particles, body-local
         for (int k = 0; k < 2; ++k) {
             body[k] = s.boxBody[box[k]];
             const CollisionBody& r = w.bodies[body[k]];
             const CellBox& cb = r.lattice->boxes[box[k] - r.firstBox];
-            cell[k] = r.lattice->cellParticles[cb.cell].data();
             view[k].nodes = &w.nodes[size_t(box[k]) * 8];
             for (int j = 0; j < 8; ++j) view[k].local[j] = cb.nodeLocal(j);
             view[k].planes = &s.planes[box[k]];
@@ -110,19 +108,15 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         // Bounded from the cells' particles, so that the inverse map of B's point is not needed
         // for the points left out: A's point blended exactly, B's at most its cell's fastest
         // particle along the normal.
-        const uint32_t incFirst = w.bodies[body[inc]].firstParticle;
-        const uint32_t refFirst = w.bodies[body[ref]].firstParticle;
         float refSpeed = -INFINITY; // B's fastest particle along the normal
-        for (int j = 0; j < 8; ++j)
-            refSpeed = maxNum(refSpeed, dot(w.v[refFirst + cell[ref][j]], m.normal));
+        for (const uint32_t i : s.boxParticles[box[ref]])
+            refSpeed = maxNum(refSpeed, dot(w.v[i], m.normal));
         const float skin = s.skin[body[ref]];
         for (int k = 0; k < m.count; ++k) {
             const ManifoldPoint& pt = m.point[k];
+            // A's point, as its contact will have it.
+            const Vec3 va = blend(ContactPoint{box[inc], pt.local}, s.boxParticles, w.v);
             if (pt.distance > skin) {
-                float weight[8];
-                trilinearWeights(pt.local, weight);
-                Vec3 va{};
-                for (int j = 0; j < 8; ++j) va += w.v[incFirst + cell[inc][j]] * weight[j];
                 const float approach = maxNum(0.0f, refSpeed - dot(va, m.normal));
                 if (pt.distance > speculativeReach(skin, approach, w.substep)) {
                     closing = maxNum(closing, approach);
@@ -134,9 +128,7 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
                                           pt.position - m.normal * pt.distance, *view[ref].planes);
             c.nodeA = box[inc] * 8 + uint32_t(k);
             deepest = maxNum(deepest, -pt.distance);
-            closing = maxNum(
-                closing,
-                -dot(blend(c.a, s.boxParticles, w.v) - blend(c.b, s.boxParticles, w.v), c.normal));
+            closing = maxNum(closing, -dot(va - blend(c.b, s.boxParticles, w.v), c.normal));
             contacts.push_back(c);
         }
         // What the pair may claim: all its overlap, unless its boxes overlap least across
