@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 namespace ffd::bench {
@@ -41,7 +42,15 @@ D3 toD3(Vec3 v) {
     return {double(v.x), double(v.y), double(v.z)};
 }
 
-// Squared distance from p to triangle abc (Ericson's region tests).
+// Twice the signed solid angle of triangle abc seen from the origin (a, b, c relative to the
+// point), Van Oosterom and Strackee's formula.
+double twiceSolidAngle(D3 a, D3 b, D3 c) {
+    const double la = norm(a), lb = norm(b), lc = norm(c);
+    const double numerator = dot(a, cross(b, c));
+    const double denominator = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
+    return 2.0 * std::atan2(numerator, denominator);
+}
+
 // The point of triangle abc nearest to p (Ericson, Real-Time Collision Detection, 5.1.5).
 D3 closestPointOnTriangle(D3 p, D3 a, D3 b, D3 c) {
     const D3 ab = b - a, ac = c - a, ap = p - a;
@@ -64,6 +73,7 @@ D3 closestPointOnTriangle(D3 p, D3 a, D3 b, D3 c) {
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Squared distance from p to triangle abc.
 double distanceSquaredToTriangle(D3 p, D3 a, D3 b, D3 c) {
     const D3 d = p - closestPointOnTriangle(p, a, b, c);
     return dot(d, d);
@@ -85,19 +95,207 @@ double windingNumber(Vec3 point, const MeshView& mesh) {
     const D3 p = toD3(point);
     double sum = 0;
     for (const auto& t : mesh.triangles) {
-        const D3 a = toD3(mesh.vertices[t[0]]) - p;
-        const D3 b = toD3(mesh.vertices[t[1]]) - p;
-        const D3 c = toD3(mesh.vertices[t[2]]) - p;
-        const double la = norm(a), lb = norm(b), lc = norm(c);
-        const double numerator = dot(a, cross(b, c));
-        const double denominator = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-        sum += 2.0 * std::atan2(numerator, denominator);
+        sum += twiceSolidAngle(toD3(mesh.vertices[t[0]]) - p, toD3(mesh.vertices[t[1]]) - p,
+                               toD3(mesh.vertices[t[2]]) - p);
     }
     return sum / (4.0 * std::numbers::pi);
 }
 
 bool insideMesh(Vec3 point, const MeshView& mesh) {
     return windingNumber(point, mesh) > 0.5;
+}
+
+namespace {
+
+constexpr uint32_t kLeafTriangles = 8;
+
+D3 toD3(const std::array<double, 3>& a) {
+    return {a[0], a[1], a[2]};
+}
+
+// The boundary of a set of triangles given as their directed edges: each undirected edge's
+// copies one way less those the other way, as that many edges the way that is left over
+// (so an edge two triangles share in opposite directions drops out).
+std::vector<std::array<uint32_t, 2>> boundaryOf(std::vector<std::array<uint32_t, 2>> edges) {
+    auto undirected = [](const std::array<uint32_t, 2>& e) {
+        return std::pair(std::min(e[0], e[1]), std::max(e[0], e[1]));
+    };
+    std::sort(edges.begin(), edges.end(),
+              [&](const auto& a, const auto& b) { return undirected(a) < undirected(b); });
+    std::vector<std::array<uint32_t, 2>> out;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i;
+        int net = 0; // copies from the lower vertex to the higher, less the others
+        while (j < edges.size() && undirected(edges[j]) == undirected(edges[i]))
+            net += edges[j][0] < edges[j][1] ? 1 : -1, ++j;
+        const auto [lo, hi] = undirected(edges[i]);
+        for (; net > 0; --net) out.push_back({lo, hi});
+        for (; net < 0; ++net) out.push_back({hi, lo});
+        i = j;
+    }
+    return out;
+}
+
+} // namespace
+
+MeshTree::MeshTree(const MeshView& mesh) : mesh_(mesh) {
+    v_.resize(mesh.vertices.size());
+    for (size_t i = 0; i < v_.size(); ++i) {
+        const Vec3 p = mesh.vertices[i];
+        v_[i] = {double(p.x), double(p.y), double(p.z)};
+    }
+    const size_t t = mesh.triangles.size();
+    order_.resize(t);
+    std::vector<P3> centroid(t);
+    for (size_t i = 0; i < t; ++i) {
+        order_[i] = uint32_t(i);
+        for (int k = 0; k < 3; ++k)
+            centroid[i][size_t(k)] =
+                (v_[mesh.triangles[i][0]][size_t(k)] + v_[mesh.triangles[i][1]][size_t(k)] +
+                 v_[mesh.triangles[i][2]][size_t(k)]) /
+                3.0;
+    }
+    nodes_.reserve(2 * (t / kLeafTriangles + 1));
+    if (t > 0) build(0, uint32_t(t), centroid);
+}
+
+std::vector<MeshTree::Edge> MeshTree::build(uint32_t first, uint32_t count,
+                                            const std::vector<P3>& centroid) {
+    const uint32_t at = uint32_t(nodes_.size());
+    nodes_.push_back({});
+    Node node{};
+    node.first = first;
+    node.count = count;
+    node.lo = {INFINITY, INFINITY, INFINITY};
+    node.hi = {-INFINITY, -INFINITY, -INFINITY};
+    P3 clo = node.lo, chi = node.hi; // the centroids' bounds, to split on
+    for (uint32_t i = first; i < first + count; ++i) {
+        for (const uint32_t corner : mesh_.triangles[order_[i]])
+            for (size_t k = 0; k < 3; ++k) {
+                node.lo[k] = std::min(node.lo[k], v_[corner][k]);
+                node.hi[k] = std::max(node.hi[k], v_[corner][k]);
+            }
+        for (size_t k = 0; k < 3; ++k) {
+            clo[k] = std::min(clo[k], centroid[order_[i]][k]);
+            chi[k] = std::max(chi[k], centroid[order_[i]][k]);
+        }
+    }
+    for (size_t k = 0; k < 3; ++k) node.apex[k] = 0.5 * (node.lo[k] + node.hi[k]);
+    std::vector<Edge> boundary;
+    if (count <= kLeafTriangles) {
+        for (uint32_t i = first; i < first + count; ++i) {
+            const auto& tri = mesh_.triangles[order_[i]];
+            boundary.push_back({tri[0], tri[1]});
+            boundary.push_back({tri[1], tri[2]});
+            boundary.push_back({tri[2], tri[0]});
+        }
+    } else {
+        // Halves at the median centroid along the centroids' longest extent.
+        size_t axis = 0;
+        for (size_t k = 1; k < 3; ++k)
+            if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
+        const uint32_t half = count / 2;
+        std::nth_element(order_.begin() + first, order_.begin() + first + half,
+                         order_.begin() + first + count, [&](uint32_t a, uint32_t b) {
+                             return centroid[a][axis] < centroid[b][axis] ||
+                                    (centroid[a][axis] == centroid[b][axis] && a < b);
+                         });
+        boundary = build(first, half, centroid);
+        node.right = uint32_t(nodes_.size());
+        std::vector<Edge> second = build(first + half, count - half, centroid);
+        boundary.insert(boundary.end(), second.begin(), second.end());
+    }
+    boundary = boundaryOf(std::move(boundary));
+    // A fan over the boundary pays when it has fewer triangles than the subtree.
+    if (node.right != 0 && boundary.size() < count) {
+        node.fan = true;
+        node.edgeFirst = uint32_t(edges_.size());
+        node.edgeCount = uint32_t(boundary.size());
+        edges_.insert(edges_.end(), boundary.begin(), boundary.end());
+    }
+    nodes_[at] = node;
+    return boundary;
+}
+
+// The trees are balanced (halves at the median), so a walk holds at most one node per level
+// and its sibling: 64 is enough for 2^32 triangles.
+constexpr int kStackDepth = 64;
+
+double MeshTree::windingNumber(Vec3 point) const {
+    if (nodes_.empty()) return 0;
+    const D3 p = toD3(point);
+    const P3 q{p.x, p.y, p.z};
+    double sum = 0;
+    uint32_t stack[kStackDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        const bool outside = q[0] < n.lo[0] || q[0] > n.hi[0] || q[1] < n.lo[1] || q[1] > n.hi[1] ||
+                             q[2] < n.lo[2] || q[2] > n.hi[2];
+        if (outside && n.fan) {
+            const D3 apex = toD3(n.apex) - p;
+            for (uint32_t e = n.edgeFirst; e < n.edgeFirst + n.edgeCount; ++e)
+                sum +=
+                    twiceSolidAngle(apex, toD3(v_[edges_[e][0]]) - p, toD3(v_[edges_[e][1]]) - p);
+            continue;
+        }
+        if (n.right == 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+                const auto& tri = mesh_.triangles[order_[i]];
+                sum += twiceSolidAngle(toD3(v_[tri[0]]) - p, toD3(v_[tri[1]]) - p,
+                                       toD3(v_[tri[2]]) - p);
+            }
+            continue;
+        }
+        stack[top++] = n.right;
+        stack[top++] = uint32_t(&n - nodes_.data()) + 1;
+    }
+    return sum / (4.0 * std::numbers::pi);
+}
+
+double MeshTree::distanceSquared(Vec3 point, double limit) const {
+    if (nodes_.empty()) return limit;
+    const D3 p = toD3(point);
+    // Squared distance from p to node n's box: no triangle of n is nearer.
+    auto boxDistance = [&](const Node& n) {
+        double d = 0;
+        const double c[3] = {p.x, p.y, p.z};
+        for (size_t k = 0; k < 3; ++k) {
+            const double below = n.lo[k] - c[k], above = c[k] - n.hi[k];
+            if (below > 0) d += below * below;
+            if (above > 0) d += above * above;
+        }
+        return d;
+    };
+    double best = limit;
+    uint32_t stack[kStackDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const uint32_t at = stack[--top];
+        const Node& n = nodes_[at];
+        if (boxDistance(n) >= best) continue;
+        if (n.right == 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+                const auto& tri = mesh_.triangles[order_[i]];
+                best = std::min(best, distanceSquaredToTriangle(
+                                          p, toD3(v_[tri[0]]), toD3(v_[tri[1]]), toD3(v_[tri[2]])));
+            }
+            continue;
+        }
+        // The nearer child on top.
+        const uint32_t a = at + 1, b = n.right;
+        if (boxDistance(nodes_[a]) <= boxDistance(nodes_[b]))
+            stack[top++] = b, stack[top++] = a;
+        else
+            stack[top++] = a, stack[top++] = b;
+    }
+    return best;
+}
+
+double MeshTree::distanceToSurface(Vec3 point) const {
+    return std::sqrt(distanceSquared(point, std::numeric_limits<double>::infinity()));
 }
 
 double distanceToSurface(Vec3 point, const MeshView& mesh) {
@@ -149,13 +347,20 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
 
     const double deep = double(settings.deepFraction) * double(settings.referenceSize);
     double depthSum = 0;
+    // Each body's tree, made when a neighbour first needs it.
+    std::vector<std::unique_ptr<MeshTree>> trees(n);
+    auto tree = [&](size_t b) -> const MeshTree& {
+        if (!trees[b]) trees[b] = std::make_unique<MeshTree>(bodies[b]);
+        return *trees[b];
+    };
     // The vertices of `a` inside `b`; returns whether there was any.
     auto probe = [&](size_t a, size_t b) {
         bool any = false;
+        const MeshTree& other = tree(b);
         for (size_t k = 0; k < bodies[a].vertices.size(); ++k) {
             const Vec3 v = bodies[a].vertices[k];
-            if (!box[b].contains(v) || !insideMesh(v, bodies[b])) continue;
-            const double depth = distanceToSurface(v, bodies[b]);
+            if (!box[b].contains(v) || !other.inside(v)) continue;
+            const double depth = other.distanceToSurface(v);
             if (onInside) onInside(a, k, b, depth);
             any = true;
             ++out.insideVertices;
@@ -175,8 +380,14 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
         const Vec3 r{float(range), float(range), float(range)};
         reach.lo -= r, reach.hi += r;
         double best = range;
-        for (const Vec3& v : bodies[a].vertices)
-            if (reach.contains(v)) best = std::min(best, distanceToSurface(v, bodies[b]));
+        const MeshTree* other = nullptr;
+        for (const Vec3& v : bodies[a].vertices) {
+            if (!reach.contains(v)) continue;
+            if (!other) other = &tree(b);
+            // Only what is nearer than the best so far matters.
+            const double d = other->distanceSquared(v, best * best);
+            if (d < best * best) best = std::min(best, std::sqrt(d));
+        }
         return best;
     };
     std::vector<double> gap(n, range);

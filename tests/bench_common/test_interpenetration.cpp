@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <vector>
 
 using namespace ffd;
@@ -314,4 +315,125 @@ TEST(Interpenetration, KeepWorstKeepsTheClosestApproach) {
     EXPECT_EQ(worst.minGap, 0.01);
     EXPECT_EQ(worst.medianGap, 0.04);
     EXPECT_EQ(worst.nearBodies, 2);
+}
+
+namespace {
+
+// Points in and around a mesh: uniform in its bounds grown by a fifth, and beside its vertices
+// (within a thousandth of its size, where winding numbers change fastest).
+std::vector<Vec3> probePoints(const TriangleMesh& m, uint32_t seed, int count) {
+    const Aabb box = bounds(m);
+    const Vec3 size = box.extent();
+    uint32_t state = seed;
+    auto unit = [&] { // xorshift, in [0, 1)
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return float(state >> 8) / float(1u << 24);
+    };
+    std::vector<Vec3> points;
+    for (int i = 0; i < count; ++i) {
+        points.push_back(
+            box.lo - size * 0.1f +
+            Vec3{size.x * 1.2f * unit(), size.y * 1.2f * unit(), size.z * 1.2f * unit()});
+        const Vec3 v = m.positions[size_t(unit() * float(m.positions.size()))];
+        points.push_back(v + (Vec3{unit(), unit(), unit()} - Vec3{0.5f, 0.5f, 0.5f}) *
+                                 (0.002f * length(size)));
+    }
+    return points;
+}
+
+// A mesh turned about y by `angle` and moved to `at`.
+TriangleMesh placed(TriangleMesh m, float angle, Vec3 at) {
+    const float c = std::cos(angle), s = std::sin(angle);
+    for (Vec3& p : m.positions) p = Vec3{c * p.x + s * p.z, p.y, -s * p.x + c * p.z} + at;
+    return m;
+}
+
+} // namespace
+
+// The tree's winding numbers and distances are those of every triangle: a letter, the teapot,
+// a box, and an open surface (a sphere with a cap of triangles taken off), at points in and
+// around them and beside their vertices.
+TEST(Interpenetration, TheMeshTreeAnswersAsEveryTriangleDoes) {
+    TriangleMesh open = icosphere(3);
+    open.triangles.resize(open.triangles.size() - 40);
+    const std::vector<TriangleMesh> meshes = {letter('R'), teapot(6), box({0.4f, 0.2f, 0.3f}),
+                                              open};
+    for (size_t k = 0; k < meshes.size(); ++k) {
+        const MeshView mesh = view(meshes[k]);
+        const MeshTree tree(mesh);
+        EXPECT_GT(tree.nodeCount(), 8u);
+        EXPECT_GT(tree.fanCount(), tree.nodeCount() / 8); // subtrees read through their fans
+        int inside = 0;
+        for (const Vec3 p : probePoints(meshes[k], uint32_t(17 + k), 300)) {
+            const double every = windingNumber(p, mesh), fast = tree.windingNumber(p);
+            EXPECT_NEAR(fast, every, 1e-9)
+                << "mesh " << k << " at " << p.x << ", " << p.y << ", " << p.z;
+            if (std::abs(every - 0.5) > 1e-6) {
+                EXPECT_EQ(tree.inside(p), insideMesh(p, mesh));
+            }
+            inside += insideMesh(p, mesh) ? 1 : 0;
+            const double distance = distanceToSurface(p, mesh);
+            EXPECT_EQ(tree.distanceToSurface(p), distance);
+            // A limit below the distance comes back as it is.
+            EXPECT_EQ(tree.distanceSquared(p, 0.25 * distance * distance),
+                      0.25 * distance * distance);
+        }
+        EXPECT_GT(inside, 30) << "mesh " << k; // the points test the inside too
+    }
+}
+
+// The measure of a heap of letters placed into each other equals one that asks every triangle
+// (the measure as it was before the trees), figure by figure.
+TEST(Interpenetration, TheMeasureIsTheSameAsAskingEveryTriangle) {
+    std::vector<TriangleMesh> meshes;
+    const char* capitals = "ABRSOW";
+    for (int i = 0; i < 6; ++i)
+        meshes.push_back(placed(letter(capitals[i]), 0.7f * float(i),
+                                {0.35f * float(i % 3), 0.2f * float(i / 3), 0.05f * float(i)}));
+    std::vector<MeshView> views;
+    for (const TriangleMesh& m : meshes) views.push_back(view(m));
+    InterpenetrationSettings s;
+    s.referenceSize = 1.0f;
+    const Interpenetration r = measureInterpenetration(views, s);
+
+    // Every triangle: the inside vertices and their depths, and each near body's gap.
+    const double range = double(s.gapFraction);
+    int inside = 0, deepCount = 0, pairs = 0;
+    double deepest = 0, sum = 0;
+    std::vector<double> gap(views.size(), range);
+    for (size_t a = 0; a < views.size(); ++a)
+        for (size_t b = a + 1; b < views.size(); ++b) {
+            const Aabb ba = bounds(meshes[a]), bb = bounds(meshes[b]);
+            bool touching = false;
+            for (const auto& [p, q, qb] : {std::tuple{a, b, bb}, std::tuple{b, a, ba}})
+                for (const Vec3& v : views[p].vertices)
+                    if (qb.contains(v) && insideMesh(v, views[q])) {
+                        const double depth = distanceToSurface(v, views[q]);
+                        ++inside, touching = true, sum += depth;
+                        deepCount += depth > 0.01 ? 1 : 0;
+                        deepest = std::max(deepest, depth);
+                    }
+            pairs += touching ? 1 : 0;
+            double g = touching ? 0.0 : range;
+            for (const auto& [p, q, qb] : {std::tuple{a, b, bb}, std::tuple{b, a, ba}}) {
+                const Vec3 r3{float(range), float(range), float(range)};
+                const Aabb reach{qb.lo - r3, qb.hi + r3};
+                for (const Vec3& v : views[p].vertices)
+                    if (!touching && reach.contains(v))
+                        g = std::min(g, distanceToSurface(v, views[q]));
+            }
+            gap[a] = std::min(gap[a], g), gap[b] = std::min(gap[b], g);
+        }
+    ASSERT_GT(inside, 100); // the heap does interpenetrate
+    EXPECT_EQ(r.insideVertices, inside);
+    EXPECT_EQ(r.deepVertices, deepCount);
+    EXPECT_EQ(r.bodyPairs, pairs);
+    EXPECT_EQ(r.maxDepth, deepest);
+    EXPECT_NEAR(r.meanDepth, sum / inside, 1e-12);
+    int near = 0;
+    double closest = range;
+    for (const double g : gap)
+        if (g < range) ++near, closest = std::min(closest, g);
+    EXPECT_EQ(r.nearBodies, near);
+    EXPECT_EQ(r.minGap, closest);
 }
