@@ -168,29 +168,27 @@ std::vector<MeshTree::Edge> MeshTree::build(uint32_t first, uint32_t count,
     node.count = count;
     node.lo = {INFINITY, INFINITY, INFINITY};
     node.hi = {-INFINITY, -INFINITY, -INFINITY};
-    P3 clo = node.lo, chi = node.hi; // the centroids' bounds, to split on
-    for (uint32_t i = first; i < first + count; ++i) {
-        for (const uint32_t corner : mesh_.triangles[order_[i]])
-            for (size_t k = 0; k < 3; ++k) {
-                node.lo[k] = std::min(node.lo[k], v_[corner][k]);
-                node.hi[k] = std::max(node.hi[k], v_[corner][k]);
-            }
-        for (size_t k = 0; k < 3; ++k) {
-            clo[k] = std::min(clo[k], centroid[order_[i]][k]);
-            chi[k] = std::max(chi[k], centroid[order_[i]][k]);
-        }
-    }
-    for (size_t k = 0; k < 3; ++k) node.apex[k] = 0.5 * (node.lo[k] + node.hi[k]);
     std::vector<Edge> boundary;
     if (count <= kLeafTriangles) {
         for (uint32_t i = first; i < first + count; ++i) {
             const auto& tri = mesh_.triangles[order_[i]];
+            for (const uint32_t corner : tri)
+                for (size_t k = 0; k < 3; ++k) {
+                    node.lo[k] = std::min(node.lo[k], v_[corner][k]);
+                    node.hi[k] = std::max(node.hi[k], v_[corner][k]);
+                }
             boundary.push_back({tri[0], tri[1]});
             boundary.push_back({tri[1], tri[2]});
             boundary.push_back({tri[2], tri[0]});
         }
     } else {
         // Halves at the median centroid along the centroids' longest extent.
+        P3 clo = node.lo, chi = node.hi;
+        for (uint32_t i = first; i < first + count; ++i)
+            for (size_t k = 0; k < 3; ++k) {
+                clo[k] = std::min(clo[k], centroid[order_[i]][k]);
+                chi[k] = std::max(chi[k], centroid[order_[i]][k]);
+            }
         size_t axis = 0;
         for (size_t k = 1; k < 3; ++k)
             if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
@@ -204,7 +202,13 @@ std::vector<MeshTree::Edge> MeshTree::build(uint32_t first, uint32_t count,
         node.right = uint32_t(nodes_.size());
         std::vector<Edge> second = build(first + half, count - half, centroid);
         boundary.insert(boundary.end(), second.begin(), second.end());
+        for (const Node& child : {nodes_[at + 1], nodes_[node.right]})
+            for (size_t k = 0; k < 3; ++k) {
+                node.lo[k] = std::min(node.lo[k], child.lo[k]);
+                node.hi[k] = std::max(node.hi[k], child.hi[k]);
+            }
     }
+    for (size_t k = 0; k < 3; ++k) node.apex[k] = 0.5 * (node.lo[k] + node.hi[k]);
     boundary = boundaryOf(std::move(boundary));
     // A fan over the boundary pays when it has fewer triangles than the subtree.
     if (node.right != 0 && boundary.size() < count) {
@@ -356,11 +360,13 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
     // The vertices of `a` inside `b`; returns whether there was any.
     auto probe = [&](size_t a, size_t b) {
         bool any = false;
-        const MeshTree& other = tree(b);
+        const MeshTree* other = nullptr; // made for the first vertex in b's bounds
         for (size_t k = 0; k < bodies[a].vertices.size(); ++k) {
             const Vec3 v = bodies[a].vertices[k];
-            if (!box[b].contains(v) || !other.inside(v)) continue;
-            const double depth = other.distanceToSurface(v);
+            if (!box[b].contains(v)) continue;
+            if (!other) other = &tree(b);
+            if (!other->inside(v)) continue;
+            const double depth = other->distanceToSurface(v);
             if (onInside) onInside(a, k, b, depth);
             any = true;
             ++out.insideVertices;
