@@ -8,7 +8,7 @@
 # pytest suite among it); the library installed to a temporary prefix with the examples built and
 # run against it; the Python package installed with `pip install .` into a virtual environment
 # (build/python-venv) and its examples run with it; the short soaks
-# (600 frames of the spheres and of the alphabets scene, every check); the asan build (ASan +
+# (600 frames of each paper scene, every check); the asan build (ASan +
 # UBSan) and the whole suite under it; the tsan build (ThreadSanitizer) and the threaded tests
 # under it (the step at 1-4 threads, task systems); each libFuzzer target on 100,000 inputs from a fixed seed
 # (at most 120 s).
@@ -111,13 +111,15 @@ fi
 suite release
 examples release
 python_package
-stage "short soaks: spheres and alphabets, 600 frames each, default tolerances; no letter rising faster than 2 m/s after 2 s"
+stage "short soaks: the four paper scenes, 600 frames each, default tolerances; no letter rising faster than 2 m/s after 2 s"
 build/release/bin/ffdaabb soak --scene spheres --frames 600
 build/release/bin/ffdaabb soak --scene alphabets --frames 600 --launch-tolerance 2
+build/release/bin/ffdaabb soak --scene teapots --frames 600
+build/release/bin/ffdaabb soak --scene buddhas --frames 600
 suite asan
 suite tsan
 # Repeatable: a fixed seed and at most 100,000 inputs per target (about 40 s for mesh_load here),
 # from a fresh corpus in a fresh clone, so CI tries the inputs a run here tried.
 stage "fuzzing, ${FUZZ_RUNS:-100000} inputs per target (seed ${FUZZ_SEED:-1})"
 FUZZ_SEED=${FUZZ_SEED:-1} FUZZ_RUNS=${FUZZ_RUNS:-100000} scripts/fuzz.sh "${FUZZ_SECONDS:-120}"
-stage "all stages passed: release, asan and tsan suites, examples, soak, fuzzing"
+stage "all stages passed: release, asan and tsan suites, examples, soaks, fuzzing"
