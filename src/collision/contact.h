@@ -355,6 +355,8 @@ struct CollisionState {
     std::vector<uint8_t> isCandidate;             ///< per body
     std::vector<uint32_t> sweepOrder;
     std::vector<float> sweepLo, sweepHi; ///< per body, its extent along x in the sweep
+    /// Per body, its extents along y and z (lo y, hi y, lo z, hi z), tested before the spheres.
+    std::vector<std::array<float, 4>> sweepAcross;
     std::vector<std::vector<CandidatePair>> sweepChunks; ///< the sweep's pairs, per chunk
     std::vector<float> reach, skin; ///< per body, its terms of the margin (margins.h)
     SpatialHash hash;
