@@ -403,7 +403,7 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
         if (usable[i]) order.push_back(i);
     std::sort(order.begin(), order.end(),
               [&](size_t a, size_t b) { return box[a].lo.x < box[b].lo.x; });
-    for (size_t k = 0; k < order.size(); ++k)
+    for (size_t k = 0; k < order.size(); ++k) {
         for (size_t m = k + 1;
              m < order.size() && double(box[order[m]].lo.x) <= double(box[order[k]].hi.x) + range;
              ++m) {
@@ -423,6 +423,10 @@ Interpenetration measureInterpenetration(std::span<const MeshView> bodies,
             gap[i] = std::min(gap[i], g);
             gap[j] = std::min(gap[j], g);
         }
+        // Its pairs with the bodies before it in the sweep were met earlier, and those with the
+        // bodies after it just now: its tree is not asked again (memory: the sweep's front).
+        trees[order[k]].reset();
+    }
     std::vector<double> near;
     for (size_t i : order)
         if (gap[i] < range) near.push_back(gap[i]);
