@@ -273,13 +273,18 @@ double MeshTree::distanceSquared(Vec3 point, double limit) const {
         return d;
     };
     double best = limit;
-    uint32_t stack[kStackDepth];
+    // Each node with its box's distance, made once when it is pushed.
+    struct Pending {
+        uint32_t node;
+        double distance;
+    };
+    Pending stack[kStackDepth];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = {0, boxDistance(nodes_[0])};
     while (top > 0) {
-        const uint32_t at = stack[--top];
-        const Node& n = nodes_[at];
-        if (boxDistance(n) >= best) continue;
+        const Pending at = stack[--top];
+        if (at.distance >= best) continue;
+        const Node& n = nodes_[at.node];
         if (n.right == 0) {
             for (uint32_t i = n.first; i < n.first + n.count; ++i) {
                 const auto& tri = mesh_.triangles[order_[i]];
@@ -289,8 +294,9 @@ double MeshTree::distanceSquared(Vec3 point, double limit) const {
             continue;
         }
         // The nearer child on top.
-        const uint32_t a = at + 1, b = n.right;
-        if (boxDistance(nodes_[a]) <= boxDistance(nodes_[b]))
+        const Pending a{at.node + 1, boxDistance(nodes_[at.node + 1])};
+        const Pending b{n.right, boxDistance(nodes_[n.right])};
+        if (a.distance <= b.distance)
             stack[top++] = b, stack[top++] = a;
         else
             stack[top++] = a, stack[top++] = b;
