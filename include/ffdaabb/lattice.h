@@ -59,7 +59,11 @@ enum BoxFace : uint8_t {
 struct CellBox {
     uint32_t cell = 0; ///< index into Lattice::cells
     Vec3 lo, hi;       ///< local coordinates of the box in the cell (may exceed [0,1] by the skin)
-    uint8_t outsideFaces = 0; ///< BoxFace bits: the neighbouring lattice cell that way is empty
+    /// BoxFace bits: the faces that lead out of the body. The neighbouring lattice cell that way
+    /// is empty, or the space between this box's face and the neighbouring cell's part of the
+    /// mesh is outside the mesh (a notch narrower than a cell; judged at rest by the winding
+    /// number).
+    uint8_t outsideFaces = 0;
 
     /// Local coordinates of boundary node n (0..7) in the cell.
     Vec3 nodeLocal(int n) const {

@@ -80,4 +80,26 @@ bool addClippedTriangle(Vec3 a, Vec3 b, Vec3 c, Vec3 lo, Vec3 hi, Aabb& ioBounds
     return count > 0;
 }
 
+double windingNumber(const TriangleMesh& mesh, Vec3 p) {
+    double sum = 0;
+    for (const auto& t : mesh.triangles) {
+        double r[3][3], len[3];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 d = mesh.positions[t[k]] - p;
+            r[k][0] = d.x, r[k][1] = d.y, r[k][2] = d.z;
+            len[k] = std::sqrt(r[k][0] * r[k][0] + r[k][1] * r[k][1] + r[k][2] * r[k][2]);
+        }
+        auto dotOf = [&](int a, int b) {
+            return r[a][0] * r[b][0] + r[a][1] * r[b][1] + r[a][2] * r[b][2];
+        };
+        const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                           r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                           r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        const double den = len[0] * len[1] * len[2] + dotOf(0, 1) * len[2] + dotOf(1, 2) * len[0] +
+                           dotOf(2, 0) * len[1];
+        sum += 2 * std::atan2(det, den);
+    }
+    return sum / (4 * 3.14159265358979323846);
+}
+
 } // namespace ffd::detail

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "ffdaabb/math.h"
+#include "ffdaabb/mesh.h"
 
 namespace ffd::detail {
 
@@ -15,5 +16,12 @@ bool triangleOverlapsBox(Vec3 a, Vec3 b, Vec3 c, Vec3 lo, Vec3 hi, float toleran
 /// Clips triangle (a,b,c) to the closed box [lo, hi] (Sutherland-Hodgman against its 6 planes)
 /// and adds the resulting polygon's points to `ioBounds`. Returns false when nothing is left.
 bool addClippedTriangle(Vec3 a, Vec3 b, Vec3 c, Vec3 lo, Vec3 hi, Aabb& ioBounds);
+
+/// Generalised winding number of the triangles at p: the sum of their signed solid angles over
+/// 4 pi, in double precision (van Oosterom and Strackee 1983; Jacobson et al. 2013). 1 inside a
+/// closed, outward-wound mesh, 0 outside, in between for open ones. The library's own: the
+/// interpenetration measure (bench/common) keeps its own, so that it shares no code with what
+/// it judges.
+double windingNumber(const TriangleMesh& mesh, Vec3 p);
 
 } // namespace ffd::detail

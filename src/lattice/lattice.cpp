@@ -336,6 +336,31 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
     }
     for (const Embedding& e : L.vertices) local[e.cell].add(e.local);
 
+    // Whether the space beyond face f of cell c's box, towards occupied cell `next`, is outside
+    // the mesh. Between the box's face and the part of the mesh in `next` (across the whole
+    // cross-section of the two cells) no triangle lies, so that space is all inside or all
+    // outside, and one point of it says which: the middle of the gap between the two parts (`next`
+    // counts whole when it holds none). A surface that runs on into `next` leaves no gap, and the
+    // face leads into the body, as does one towards a cell filled as interior. Where two parts
+    // of a mesh face each other across a notch narrower than a cell (the legs of an H), or a
+    // surface leaves the cell across an edge or corner (a sphere's cells on the diagonal), the
+    // gap is outside and the face leads out of the body: another body can lie there, and no
+    // box of `next` meets it first (docs/ALGORITHM.md, section 2).
+    const std::vector<uint8_t> surfaceCell = L.cellIsSurface;
+    auto facesOutside = [&](size_t c, uint32_t next, int f) {
+        if (!surfaceCell[next]) return false; // filled as interior: inside the mesh
+        const int axis = f >> 1;
+        const bool up = f & 1;
+        // The surface-free stretch along the axis, in cells: this part's gap to its cell's
+        // face and the next part's gap to the same face (a whole cell when it holds none).
+        const float mine = up ? 1.0f - local[c].hi[axis] : local[c].lo[axis];
+        const bool empty = local[next].empty();
+        const float theirs = empty ? 1.0f : up ? local[next].lo[axis] : 1.0f - local[next].hi[axis];
+        if (!(mine + theirs > settings.boxSkin)) return false;
+        Vec3 q{0.5f, 0.5f, 0.5f}; // in this cell's local coordinates
+        q[axis] = up ? 1.0f + 0.5f * (theirs - mine) : 0.5f * (mine - theirs);
+        return detail::windingNumber(mesh, L.cellMin(uint32_t(c)) + q * h) < 0.5;
+    };
     L.cellBox.assign(L.cells.size(), UINT32_MAX);
     const float skin = settings.boxSkin;
     const GridCoord steps[6] = {{-1, 0, 0}, {1, 0, 0},  {0, -1, 0},
@@ -355,7 +380,9 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
         for (int f = 0; f < 6; ++f) {
             const GridCoord n{L.cells[c][0] + steps[f][0], L.cells[c][1] + steps[f][1],
                               L.cells[c][2] + steps[f][2]};
-            if (L.findCell(n) == UINT32_MAX) box.outsideFaces |= uint8_t(1u << f);
+            const uint32_t next = L.findCell(n);
+            if (next == UINT32_MAX || facesOutside(c, next, f))
+                box.outsideFaces |= uint8_t(1u << f);
         }
         L.cellBox[c] = uint32_t(L.boxes.size());
         L.boxes.push_back(box);

@@ -54,3 +54,26 @@ TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
         ASSERT_LE(test::deepestInside(world), 0.01);
     }
 }
+
+// Four balls poured into a static bowl, the eight piles of tests/world
+// Colliders.BallsPouredIntoAStaticBowlNoneInsideNoneThrough. Wanted: after 5 s every ball rests
+// in the bowl (its centre over the bowl's inside, above its inner bottom and below its rim, and
+// slower than 0.1 m/s). Today some balls still roll at 0.1-0.35 m/s after 5 s, and in some piles
+// a ball landing on the others is thrown over the rim (the rigid phase's throws:
+// docs/LIMITS.md, known problems 2 and 3). Over 40 such piles 22 fail (9 with a ball thrown
+// out), and 18 (5) with the lattices' faces before notches led out of their bodies.
+TEST(KnownBugs, BallsPouredIntoABowlComeToRestInIt) {
+    for (int k = 0; k < 8; ++k) {
+        SCOPED_TRACE("pile " + std::to_string(k));
+        World world;
+        const std::vector<BodyId> balls = test::pourBallsIntoABowl(world, 0.0013f * float(k));
+        for (int f = 0; f < 300; ++f) world.step();
+        for (const BodyId b : balls) {
+            const Vec3 c = world.centreOfMass(b);
+            EXPECT_LT(std::hypot(c.x, c.z), 1.0f); // in the bowl
+            EXPECT_GT(c.y, 0.05f + 0.25f - 0.02f); // above its inner bottom
+            EXPECT_LT(c.y, 1.25f);                 // below its rim
+            EXPECT_LT(length(world.linearVelocity(b)), 0.1f);
+        }
+    }
+}

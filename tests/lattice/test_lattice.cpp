@@ -279,6 +279,60 @@ TEST(Lattice, OutsideFaceMasksOfATwoCellLattice) {
     EXPECT_EQ(L.boxes[1].outsideFaces, all & ~kFaceMinX);
 }
 
+namespace {
+
+// The cell at grid coordinates g and its box.
+const CellBox& boxAtCell(const Lattice& L, GridCoord g) {
+    const uint32_t cell = L.findCell(g);
+    EXPECT_NE(cell, UINT32_MAX);
+    EXPECT_NE(L.cellBox[cell], UINT32_MAX);
+    return L.boxes[L.cellBox[cell]];
+}
+
+TriangleMesh boxMesh(Vec3 lo, Vec3 hi) {
+    TriangleMesh m = box((hi - lo) * 0.5f, 1);
+    for (Vec3& p : m.positions) p += (lo + hi) * 0.5f;
+    return m;
+}
+
+} // namespace
+
+TEST(Lattice, AFaceTowardsANotchInItsNeighbourCellLeadsOut) {
+    // Two cubes in one mesh, in neighbouring cells with a gap of 0.7 between them: the cells
+    // share a face, but the space between the two parts is outside the mesh, so each box's face
+    // towards the other leads out of the body.
+    TriangleMesh two = boxMesh({0, 0, 0}, {0.6f, 0.6f, 0.6f});
+    const TriangleMesh second = boxMesh({1.3f, 0, 0}, {1.9f, 0.6f, 0.6f});
+    const uint32_t base = uint32_t(two.positions.size());
+    two.positions.insert(two.positions.end(), second.positions.begin(), second.positions.end());
+    for (auto t : second.triangles)
+        two.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    LatticeSettings s;
+    s.cellSize = 1.0f;
+    const Lattice L = buildLattice(two, s);
+    ASSERT_EQ(L.dims, (GridCoord{2, 1, 1}));
+    EXPECT_EQ(boxAtCell(L, {0, 0, 0}).outsideFaces, 63);
+    EXPECT_EQ(boxAtCell(L, {1, 0, 0}).outsideFaces, 63);
+    // One bar through both cells: its surface runs on across the shared face, which leads into
+    // the body.
+    const Lattice bar = buildLattice(boxMesh({0, 0, 0}, {1.9f, 0.6f, 0.6f}), s);
+    EXPECT_EQ(boxAtCell(bar, {0, 0, 0}).outsideFaces, 63 & ~kFaceMaxX);
+    EXPECT_EQ(boxAtCell(bar, {1, 0, 0}).outsideFaces, 63 & ~kFaceMinX);
+}
+
+TEST(Lattice, AFaceTowardsTheBodysInsideAcrossAGapLeadsIn) {
+    // A block 1.8 x 2.9 x 2.9 on unit cells: the middle row along x, cells (0,1,1) and (1,1,1),
+    // holds only the two end faces (x = 0 and x = 1.8), with the block's inside between them.
+    LatticeSettings s;
+    s.cellSize = 1.0f;
+    const Lattice L = buildLattice(boxMesh({0, 0, 0}, {1.8f, 2.9f, 2.9f}), s);
+    ASSERT_EQ(L.dims, (GridCoord{2, 3, 3}));
+    const CellBox& left = boxAtCell(L, {0, 1, 1});
+    EXPECT_LT(left.hi.x, 0.1f); // the end face only: a gap of most of the cell towards +x
+    EXPECT_EQ(left.outsideFaces, kFaceMinX);
+    EXPECT_EQ(boxAtCell(L, {1, 1, 1}).outsideFaces, kFaceMaxX);
+}
+
 TEST(Lattice, CellBoxesBoundTheClippedSurface) {
     // A single triangle spanning several cells: each box must cover the triangle's part in its
     // cell (checked by dense sampling) and stay inside the cell grown by the skin.

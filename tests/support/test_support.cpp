@@ -143,6 +143,16 @@ BodyId addHeavyOnLight(World& world, float offset) {
     return light;
 }
 
+std::vector<BodyId> pourBallsIntoABowl(World& world, float shift) {
+    world.addBody(bowl(1.2f, 0.2f, 32), collider(BodyMotion::Static, {0, 1.25f, 0}, 400));
+    std::vector<BodyId> balls;
+    for (int i = 0; i < 4; ++i)
+        balls.push_back(world.addBody(
+            smallBall(), sphereAt({0.3f * float(i % 2) - 0.15f + shift * float(i),
+                                   1.8f + 0.6f * float(i), 0.3f * float(i / 2) - 0.15f})));
+    return balls;
+}
+
 void addBallsAtOneSpot(World& world, int count, Vec3 centre, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-0.5f, 0.5f);

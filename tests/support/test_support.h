@@ -104,6 +104,12 @@ TriangleMesh smallBall();
 /// `targetCells` cells.
 BodySettings collider(BodyMotion motion, Vec3 position, int targetCells = 64);
 
+/// Four smallBall() bodies poured from 1.8-3.6 m into a static bowl (radius 1.2 m, wall 0.2 m,
+/// its rim 1.25 m above the floor), ball i moved `shift` * i metres along x from the others'
+/// layout: shifts of a few millimetres give different piles. Returns the balls; the bowl is
+/// the world's first body.
+std::vector<BodyId> pourBallsIntoABowl(World& world, float shift);
+
 /// A ball() 1,000 times heavier (density 10,000) resting on a light one (density 10) on the
 /// floor, offset sideways by `offset` metres: the mass-ratio case. Returns the light body.
 BodyId addHeavyOnLight(World& world, float offset);

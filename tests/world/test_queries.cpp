@@ -721,7 +721,7 @@ TEST(Queries, ContactPairsComeInCanonicalOrderAndMatchTheLastSubstepsContacts) {
     for (int i = 0; i < 8; ++i)
         world.addBody(ball(),
                       placed({0.35f * float(i % 3), 0.5f + 0.8f * float(i), 0.2f * float(i % 2)}));
-    for (int f = 0; f < 90; ++f) world.step();
+    for (int f = 0; f < 45; ++f) world.step();
     const auto ids = world.bodies();
     auto place = [&](BodyId b) {
         return b.isNull() ? ids.size() : size_t(std::find(ids.begin(), ids.end(), b) - ids.begin());
