@@ -136,7 +136,7 @@ struct WorldSettings {
     /// turns it into rigid motion and throws such bodies from piles at tens of m/s. Lower bounds
     /// let impacts sink deeper; higher ones let more throws through (docs/ALGORITHM.md, section
     /// 5, "Separation bound").
-    float maxSeparationSpeed = 2.0f;
+    float maxSeparationSpeed = 1.0f;
     /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
     /// overlap deeper than the contact skin is pushed out by at most the skin plus this speed
     /// times the substep per substep, by moving positions, without adding velocity: bodies

@@ -150,6 +150,29 @@ void leastSeparations(const BoxPlanes& planes, const Vec3* nodes, float out[8]) 
     store4(out + 4, least[1]);
 }
 
+// The manifold's four points out of `kept` found ones on normal n.
+void reduceToFour(const ManifoldPoint* found, int kept, Vec3 n, BoxPairManifold& m) {
+    // Four points: the deepest, the farthest from it, and the two that span the largest
+    // triangles with those on either side.
+    int pick[4] = {0, -1, -1, -1};
+    for (int k = 1; k < kept; ++k)
+        if (found[k].distance < found[pick[0]].distance) pick[0] = k;
+    float far = -1;
+    for (int k = 0; k < kept; ++k) {
+        const float d2 = lengthSquared(found[k].position - found[pick[0]].position);
+        if (d2 > far) far = d2, pick[1] = k;
+    }
+    float most = 0, least = 0;
+    const Vec3 a = found[pick[0]].position, b = found[pick[1]].position;
+    for (int k = 0; k < kept; ++k) {
+        const float area = dot(cross(b - a, found[k].position - a), n);
+        if (area > most) most = area, pick[2] = k;
+        if (area < least) least = area, pick[3] = k;
+    }
+    for (int k : pick)
+        if (k >= 0) m.point[m.count++] = found[k];
+}
+
 } // namespace
 
 BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, float margin,
@@ -223,7 +246,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     int kept = 0;
     for (int k = 0; k < count; ++k) {
         const float d = dot(n, polygon[cur][k].position) - offset;
-        if (d < margin) found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d};
+        if (d < margin) found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d, n};
     }
     if (kept == 0) {
         // The incident face lies beyond the reference face's sides (an edge or a corner of the
@@ -231,7 +254,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
         // margin of the reference plane, which the planes say the pair overlaps by.
         for (int k = 0; k < 8; ++k) {
             const float d = dot(n, inc.nodes[k]) - offset;
-            if (d < margin) found[kept++] = {inc.nodes[k], inc.local[k], d};
+            if (d < margin) found[kept++] = {inc.nodes[k], inc.local[k], d, n};
         }
         if (kept == 0) {
             m.reference = -1;
@@ -241,27 +264,28 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     if (kept <= 4) {
         for (int k = 0; k < kept; ++k) m.point[k] = found[k];
         m.count = kept;
-        return m;
+    } else {
+        reduceToFour(found.data(), kept, n, m);
     }
-    // Four points: the deepest, the farthest from it, and the two that span the largest
-    // triangles with those on either side.
-    int pick[4] = {0, -1, -1, -1};
-    for (int k = 1; k < kept; ++k)
-        if (found[k].distance < found[pick[0]].distance) pick[0] = k;
-    float far = -1;
-    for (int k = 0; k < kept; ++k) {
-        const float d2 = lengthSquared(found[k].position - found[pick[0]].position);
-        if (d2 > far) far = d2, pick[1] = k;
+    // Side points: incident nodes below the reference plane and beside one of its sides that
+    // leads out of the reference box's body, within the margin of that side's plane.
+    const uint8_t refExits = exitFaces(ref.outsideFaces);
+    for (int k = 0; k < 8 && m.count < 8; ++k) {
+        const Vec3 p = inc.nodes[k];
+        if (!(dot(n, p) - offset < 0)) continue;
+        int side = -1;
+        float beyond = 0;
+        bool near = true;
+        for (int g = 0; g < 6; ++g) {
+            if (g == m.face) continue;
+            const float d = dot(ref.planes->normal[g], p) - ref.planes->offset[g];
+            if (!(d < margin)) near = false;
+            if ((g >> 1) != (m.face >> 1) && d > beyond && ((refExits >> g) & 1))
+                beyond = d, side = g;
+        }
+        if (!near || side < 0) continue;
+        m.point[m.count++] = {p, inc.local[k], beyond, ref.planes->normal[side]};
     }
-    float most = 0, least = 0;
-    const Vec3 a = found[pick[0]].position, b = found[pick[1]].position;
-    for (int k = 0; k < kept; ++k) {
-        const float area = dot(cross(b - a, found[k].position - a), n);
-        if (area > most) most = area, pick[2] = k;
-        if (area < least) least = area, pick[3] = k;
-    }
-    for (int k : pick)
-        if (k >= 0) m.point[m.count++] = found[k];
     return m;
 }
 

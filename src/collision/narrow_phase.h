@@ -78,11 +78,13 @@ struct BoxView {
     uint8_t outsideFaces = 0;
 };
 
-/// One point of a box pair's contact manifold: a point of the incident box's face.
+/// One point of a box pair's contact manifold: a point of the incident box's face, or one of
+/// its nodes beside a side of the reference face.
 struct ManifoldPoint {
     Vec3 position;      ///< world position (on the incident face, linearly interpolated)
     Vec3 local;         ///< local coordinates in the incident box's cell
-    float distance = 0; ///< signed distance to the reference face's plane (negative: inside)
+    float distance = 0; ///< signed distance to the plane of `normal` (negative: inside)
+    Vec3 normal;        ///< the way the incident box must move at this point
 };
 
 /// The contact manifold of two deformed cell boxes (boxPairManifold).
@@ -91,7 +93,10 @@ struct BoxPairManifold {
     int face = -1;      ///< the reference face (kFaceNodes order)
     Vec3 normal;        ///< its outward normal: the way the incident box must move
     int count = 0;
-    ManifoldPoint point[4];
+    /// The clipped face's points (at most four, on `normal`), then the side points: incident
+    /// nodes below the reference plane but beside one of its outside side faces, within the
+    /// margin of it, on that face's normal (at most four).
+    ManifoldPoint point[8];
     /// How deep the pair can show its boxes overlap: when the plane of least overlap of all
     /// twelve leads into the neighbouring cell of its body, that overlap (>= 0), since the rest
     /// of the overlap along the normal lies across that plane, where the neighbouring cell's box
@@ -107,7 +112,11 @@ struct BoxPairManifold {
 /// reference face, clipped to the reference face's side planes, the points closer than
 /// `margin` to the reference plane (the incident box's nodes closer than that when the clipped
 /// face keeps none), at most four (the deepest, the farthest from it, and the two that span the
-/// largest triangles with those on either side). No contact when the boxes lie more than `margin`
+/// largest triangles with those on either side); and the incident box's nodes that lie below the
+/// reference plane beside one of the reference face's sides that leads out of its body, within
+/// `margin` of that side's plane, as points on that side's normal: the clip drops them, and a
+/// box moving in across that side in the substep would be met by nothing (docs/ALGORITHM.md,
+/// section 4, "Side points"). No contact when the boxes lie more than `margin`
 /// apart along any face plane, or apart along one that leads into the neighbouring cell of its body
 /// (that cell's box meets the other box first); when they overlap least along such a plane, the
 /// manifold's depthBound says by how much. The first box holds the reference face unless the

@@ -108,24 +108,30 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         // Bounded from the cells' particles, so that the inverse map of B's point is not needed
         // for the points left out: A's point blended exactly, B's at most its cell's fastest
         // particle along the normal.
-        float refSpeed = -INFINITY; // B's fastest particle along the normal
-        for (const uint32_t i : s.boxParticles[box[ref]])
-            refSpeed = maxNum(refSpeed, dot(w.v[i], m.normal));
+        // B's fastest particle along a normal.
+        auto refSpeedAlong = [&](Vec3 normal) {
+            float fastest = -INFINITY;
+            for (const uint32_t i : s.boxParticles[box[ref]])
+                fastest = maxNum(fastest, dot(w.v[i], normal));
+            return fastest;
+        };
+        const float refSpeed = refSpeedAlong(m.normal);
         const float skin = s.skin[body[ref]];
         for (int k = 0; k < m.count; ++k) {
             const ManifoldPoint& pt = m.point[k];
             // A's point, as its contact will have it.
             const Vec3 va = blend(ContactPoint{box[inc], pt.local}, s.boxParticles, w.v);
             if (pt.distance > skin) {
-                const float approach = maxNum(0.0f, refSpeed - dot(va, m.normal));
+                const float speed = pt.normal == m.normal ? refSpeed : refSpeedAlong(pt.normal);
+                const float approach = maxNum(0.0f, speed - dot(va, pt.normal));
                 if (pt.distance > speculativeReach(skin, approach, w.substep)) {
                     closing = maxNum(closing, approach);
                     continue;
                 }
             }
             Contact c = makeObjectContact(w, body[inc], box[inc], pt.local, body[ref], box[ref],
-                                          m.normal, pt.distance,
-                                          pt.position - m.normal * pt.distance, *view[ref].planes);
+                                          pt.normal, pt.distance,
+                                          pt.position - pt.normal * pt.distance, *view[ref].planes);
             c.nodeA = box[inc] * 8 + uint32_t(k);
             deepest = maxNum(deepest, -pt.distance);
             closing = maxNum(closing, -dot(va - blend(c.b, s.boxParticles, w.v), c.normal));

@@ -154,6 +154,43 @@ TEST(NarrowPhase, FaceToFaceBoxesGiveFourPointsOnOneNormal) {
     EXPECT_LT(detail::boxPairManifold(big.view, above.view, 0.05f, 0.001f).reference, 0);
 }
 
+// A box 2 cm into the bottom of another, its edge reaching 1 cm beyond that box's +z face: the
+// clipped face gives the points on the reference normal (down), and the two nodes of the edge,
+// below the reference plane but beside its +z side, become side points on that side's normal,
+// 1 cm from it: were the box to move in across that side in the substep, they meet it. Beside
+// a side that leads into the reference box's next cell, there are none (that cell's box meets
+// the nodes).
+TEST(NarrowPhase, NodesBesideAnOutsideSideOfTheReferenceFaceGiveSidePoints) {
+    const TestBox upper({0, 0, 0}, {1, 1, 1});
+    const TestBox lower({0.2f, -0.5f, 0.71f}, {0.8f, 0.02f, 1.01f});
+    const detail::BoxPairManifold m =
+        detail::boxPairManifold(upper.view, lower.view, 0.05f, 0.001f);
+    ASSERT_EQ(m.reference, 0);
+    EXPECT_LE(length(m.normal - Vec3{0, -1, 0}), 1e-5f);
+    int onFace = 0, beside = 0;
+    for (int k = 0; k < m.count; ++k) {
+        const detail::ManifoldPoint& p = m.point[k];
+        if (length(p.normal - m.normal) < 1e-6f) {
+            ++onFace;
+            EXPECT_NEAR(p.distance, -0.02f, 1e-5f);
+            EXPECT_LE(p.position.z, 1.0f + 1e-5f);
+        } else {
+            ++beside;
+            EXPECT_LE(length(p.normal - Vec3{0, 0, 1}), 1e-5f);
+            EXPECT_NEAR(p.distance, 0.01f, 1e-5f);
+            EXPECT_NEAR(p.position.y, 0.02f, 1e-5f);
+            EXPECT_NEAR(p.position.z, 1.01f, 1e-5f);
+        }
+    }
+    EXPECT_EQ(onFace, 4);
+    EXPECT_EQ(beside, 2);
+    const TestBox inner({0, 0, 0}, {1, 1, 1}, uint8_t(63 & ~kFaceMaxZ));
+    const detail::BoxPairManifold handed =
+        detail::boxPairManifold(inner.view, lower.view, 0.05f, 0.001f);
+    ASSERT_EQ(handed.reference, 0);
+    EXPECT_EQ(handed.count, 4);
+}
+
 // A long box turned 45 degrees about its length (z), its lowest edge pushed 3 cm into the top
 // of another box and reaching beyond it on both sides, so that no node of either box lies
 // inside the other: the crossing that a node test cannot see. The pair gets contacts pushing

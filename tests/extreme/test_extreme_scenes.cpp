@@ -470,8 +470,12 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // (docs/ALGORITHM.md, "Overlap recovery"). Criteria: every particle finite every frame; no
 // sphere ever faster than 7 m/s (measured 5.8: spheres pushed up onto the heap fall off it; the
 // recovery gave them up to 9.6 while it moved them by their contacts); after 4 s every pair
-// forgotten by the recovery, no two centres closer than 0.9 m, no vertex inside another sphere
-// deeper than 1 cm (the mesh measure) and none more than 1 cm below the floor. Apart within 3 s,
+// forgotten by the recovery but two at most, no two centres closer than 0.9 m, no vertex inside
+// another sphere deeper than 1 cm (the mesh measure) and none more than 1 cm below the floor;
+// after 6 s every pair forgotten. (With the separation bound at 1 m/s, since 2026-11-28, the
+// meshes are apart from 3.3 s, the fastest sphere 5.6 m/s, but the recovery holds two pairs
+// whose boxes still overlap until 5.9 s; at 2 m/s it let go of the last at 3.3 s.) Apart
+// within 3 s,
 // as the dense-pile issue asks, is not met: tests/known_bugs
 // TwoHundredAtOneSpotApartInThreeSeconds. (Until 2026-11-27 this test checked centres 0.9 m apart
 // after 3 s, which held while a pair was still 5 cm inside each other by the meshes.) Without the
@@ -491,8 +495,10 @@ TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
     EXPECT_LT(fastest, 7.0f);
     EXPECT_GT(closestCentres(world), 0.9f);
     EXPECT_LE(deepestInside(world), 0.01);
-    EXPECT_EQ(world.profile().overlapPairs, 0);
+    EXPECT_LE(world.profile().overlapPairs, 2);
     EXPECT_GT(lowestVertex(world), -0.01f);
+    for (int f = 240; f < 360; ++f) world.step();
+    EXPECT_EQ(world.profile().overlapPairs, 0);
 }
 
 // 200 spheres (1 m) created overlapping at random points of a 10 m cube with random rotations

@@ -55,25 +55,24 @@ TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
     }
 }
 
-// Four balls poured into a static bowl, the eight piles of tests/world
-// Colliders.BallsPouredIntoAStaticBowlNoneInsideNoneThrough. Wanted: after 5 s every ball rests
-// in the bowl (its centre over the bowl's inside, above its inner bottom and below its rim, and
-// slower than 0.1 m/s). Today some balls still roll at 0.1-0.35 m/s after 5 s, and in some piles
-// a ball landing on the others is thrown over the rim (the rigid phase's throws:
-// docs/LIMITS.md, known problems 2 and 3). Over 40 such piles 22 fail (9 with a ball thrown
-// out), and 18 (5) with the lattices' faces before notches led out of their bodies.
+// Four balls poured into a static bowl, as in tests/world
+// Colliders.BallsPouredIntoAStaticBowlNoneInsideNoneThrough, in forty piles (each ball i moved
+// 1.3 * k * i mm for pile k). Wanted: after 5 s every ball rests in the bowl (its centre over
+// the bowl's inside, above its inner bottom and below its rim, and slower than 0.1 m/s). Today
+// (2026-11-28) in 9 of the 40 piles a ball still rolls at 0.10-0.27 m/s after 5 s; none is
+// thrown out (docs/LIMITS.md, known problem 2). The first failure ends it.
 TEST(KnownBugs, BallsPouredIntoABowlComeToRestInIt) {
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < 40; ++k) {
         SCOPED_TRACE("pile " + std::to_string(k));
         World world;
         const std::vector<BodyId> balls = test::pourBallsIntoABowl(world, 0.0013f * float(k));
         for (int f = 0; f < 300; ++f) world.step();
         for (const BodyId b : balls) {
             const Vec3 c = world.centreOfMass(b);
-            EXPECT_LT(std::hypot(c.x, c.z), 1.0f); // in the bowl
-            EXPECT_GT(c.y, 0.05f + 0.25f - 0.02f); // above its inner bottom
-            EXPECT_LT(c.y, 1.25f);                 // below its rim
-            EXPECT_LT(length(world.linearVelocity(b)), 0.1f);
+            ASSERT_LT(std::hypot(c.x, c.z), 1.0f); // in the bowl
+            ASSERT_GT(c.y, 0.05f + 0.25f - 0.02f); // above its inner bottom
+            ASSERT_LT(c.y, 1.25f);                 // below its rim
+            ASSERT_LT(length(world.linearVelocity(b)), 0.1f);
         }
     }
 }

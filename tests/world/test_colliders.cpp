@@ -147,9 +147,12 @@ TEST(Colliders, ATiltedPlaneLetsABallRollDownAndNothingPassesThrough) {
 }
 
 // Four balls poured into a static bowl, in eight piles (each ball i moved 1.3 * k * i mm for
-// pile k): the bowl never moves, no ball's mesh is inside another's or the bowl's, and no ball
-// passes through the bowl (a ball over its inside is above its inner bottom). That every ball
-// comes to rest in the bowl is KnownBugs.BallsPouredIntoABowlComeToRestInIt.
+// pile k): the bowl never moves, no ball's mesh is inside another's or the bowl's, no ball
+// passes through the bowl (a ball over its inside is above its inner bottom), and after 5 s
+// every ball is in the bowl (none thrown out over the rim: none in 40 such piles with the
+// separation bound at 1 m/s; at 2 m/s, before side points, 9 of the 40 threw a ball out). That
+// every ball comes to rest in the bowl is
+// KnownBugs.BallsPouredIntoABowlComeToRestInIt.
 TEST(Colliders, BallsPouredIntoAStaticBowlNoneInsideNoneThrough) {
     for (int k = 0; k < 8; ++k) {
         SCOPED_TRACE("pile " + std::to_string(k));
@@ -170,6 +173,11 @@ TEST(Colliders, BallsPouredIntoAStaticBowlNoneInsideNoneThrough) {
         }
         EXPECT_EQ(particlesOf(world, bowlBody), before);
         EXPECT_LT(deepest, 0.01 * 0.5); // below 1 % of a ball's size
+        for (const BodyId b : balls) {
+            const Vec3 c = world.centreOfMass(b);
+            EXPECT_LT(std::hypot(c.x, c.z), 1.0f); // in the bowl
+            EXPECT_LT(c.y, 1.25f);                 // below its rim
+        }
     }
 }
 
