@@ -107,8 +107,7 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         // contact (speculativeReach): its constraint would stay inactive in every phase.
         // Bounded from the cells' particles, so that the inverse map of B's point is not needed
         // for the points left out: A's point blended exactly, B's at most its cell's fastest
-        // particle along the normal.
-        // B's fastest particle along a normal.
+        // particle along the point's normal (the manifold's, or a side point's side).
         auto refSpeedAlong = [&](Vec3 normal) {
             float fastest = -INFINITY;
             for (const uint32_t i : s.boxParticles[box[ref]])
