@@ -1,9 +1,9 @@
-// object_contacts, phases 2-3: the candidate bodies' boxes culled, their nodes hashed, the box
-// pairs a node names tested once each (separating axes, one normal, at most four points), the
-// contacts in canonical order (collision/pipeline.h).
-// Reference: Jeon, Choi, Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects",
-// 2012; Jung, Hong, Choi, "Collision Handling for Free-Form Deformation Embedded Surface", IET
-// Image Processing 5(4), 2011; Teschner et al., VMV 2003 (spatial hashing).
+// object_contacts, phases 2-3: the candidate bodies' boxes culled, their nodes and centres
+// hashed, the box pairs such a sample names tested once each (separating axes, one normal, at most
+// four points), the contacts in canonical order (collision/pipeline.h). Reference: Jeon, Choi,
+// Hong, "Enhanced FFD-AABB Collision Algorithm for Deformable Objects", 2012; Jung, Hong, Choi,
+// "Collision Handling for Free-Form Deformation Embedded Surface", IET Image Processing 5(4), 2011;
+// Teschner et al., VMV 2003 (spatial hashing).
 #include "collision/margins.h"
 #include "collision/overlap_recovery.h"
 #include "collision/pipeline.h"
@@ -26,6 +26,9 @@ constexpr float kReferenceTolerance = 0.1f;
 // frames, enhanced, side by side): 0 (every fast node in every cell its cube meets) 1.42x and
 // 1.39x the time, 1/8 1.21x and 1.17x, 1/4 1.07x and 1.19x, 1/2 1.06x and 1.40x.
 constexpr float kReachAllowance = 0.25f;
+
+// Marks a hash item that stands for its box's centre rather than one of its nodes.
+constexpr uint32_t kCentreItem = 0x80000000u;
 
 // Local coordinates, in the cell of box `box` of body B, of point q (on or near the box):
 // the box's trilinear map inverted by Newton, started from its linearised map (close for all
@@ -288,17 +291,32 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
             s.nextClaims.insert(s.nextClaims.end(), chunk.claims.begin(), chunk.claims.end());
         }
     };
-    // Node `node` of body A at p, whose cube of A's reach meets box `box` of body B grown by
-    // B's skin and reach (SpatialHash::cubeMeets: the one test every mode applies before
-    // this): when it lies within the box's node bounds grown by the pair's margin
-    // (marginOf(A, B)), the box pair of its own box and `box` is one to test (emitBoxPairs).
+    // A box's samples for phase 2: its 8 nodes (item: the node) and its centre (item: its
+    // first node with kCentreItem set), each as fn(item, position). The nodes alone miss a
+    // thin box that runs through another with both ends outside it (a sliver of a letter's
+    // stroke through the middle of another letter's cell, found 1.6 cm deep by the mesh
+    // measure: docs/ALGORITHM.md §4, "Crossings"); its centre lies inside.
+    auto forEachSample = [&](uint32_t box, auto&& fn) {
+        const Vec3* nodes = &w.nodes[size_t(box) * 8];
+        Vec3 centre{};
+        for (uint32_t k = 0; k < 8; ++k) {
+            fn(box * 8 + k, nodes[k]);
+            centre += nodes[k];
+        }
+        fn(box * 8 | kCentreItem, centre * 0.125f);
+    };
+    // Sample `node` of body A at p (a node, or a box's centre: kCentreItem), whose cube of A's
+    // reach meets box `box` of body B grown by B's skin and reach (SpatialHash::cubeMeets: the one
+    // test every mode applies before this): when it lies within the box's node bounds grown by the
+    // pair's margin (marginOf(A, B)), the box pair of its own box and `box` is one to test
+    // (emitBoxPairs).
     auto testBox = [&](CollisionState::QueryScratch& q, uint32_t bodyB, uint32_t box,
                        uint32_t bodyA, uint32_t node, Vec3 p, float margin) {
         if (isWhole(w, bodyA, bodyB)) return;       // never in enhanced (pairs left out)
         if (bothImmovable(w, bodyA, bodyB)) return; // nor these
         ++q.potential;
         if (!w.boxBounds[box].contains(p, margin)) return;
-        const uint32_t own = node / 8;
+        const uint32_t own = (node & ~kCentreItem) / 8;
         const uint64_t key = own < box ? (uint64_t(own) << 32 | box) : (uint64_t(box) << 32 | own);
         // A box's nodes come in order from each hash cell: most repeats are the last key.
         if (q.keys.empty() || q.keys.back() != key) q.keys.push_back(key);
@@ -316,10 +334,11 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
                     if (a == b) continue;
                     const CollisionBody& A = w.bodies[a];
                     const float margin = marginOf(w, A, B);
-                    for (uint32_t node = A.firstBox * 8; node < (A.firstBox + A.boxCount) * 8;
-                         ++node)
-                        if (SpatialHash::cubeMeets(w.nodes[node], s.reach[a], grown))
-                            testBox(s.queryScratch[0], b, box, a, node, w.nodes[node], margin);
+                    for (uint32_t own = A.firstBox; own < A.firstBox + A.boxCount; ++own)
+                        forEachSample(own, [&](uint32_t item, Vec3 p) {
+                            if (SpatialHash::cubeMeets(p, s.reach[a], grown))
+                                testBox(s.queryScratch[0], b, box, a, item, p, margin);
+                        });
                 }
             }
         }
@@ -416,7 +435,7 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
                     near(q, grow(bb, s.skin[b] + s.reach[b]), q.partnerBounds, q.reachUnion);
                 const bool hash = near(q, grow(bb, s.reach[b]), q.partnerQueryBounds, q.queryUnion);
                 s.boxFlags[box] = uint8_t((query ? kQuery : 0) | (hash ? kHash : 0));
-                if (hash) s.hashedNodes[b] += 8;
+                if (hash) s.hashedNodes[b] += 9; // nodes and centre
             }
         }
     });
@@ -440,9 +459,9 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
             const CollisionBody& r = w.bodies[b];
             for (uint32_t box = r.firstBox; box < r.firstBox + r.boxCount; ++box)
                 if (s.boxFlags[box] & kHash)
-                    for (uint32_t node = box * 8; node < box * 8 + 8; ++node)
-                        // The position too: no random reads later.
-                        s.hash.add(batch, node, b, w.nodes[node]);
+                    forEachSample(box, [&](uint32_t item, Vec3 p) {
+                        s.hash.add(batch, item, b, p); // the position too: no random reads later
+                    });
         }
     });
     s.hash.addBatches(std::span(s.hashBatches).first(batches), w.workers);

@@ -4,6 +4,7 @@
 #include "collision/pipeline.h"
 #include "collision/spatial_hash.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/queries.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
 #include "test_support.h"
@@ -211,6 +212,42 @@ TEST(NarrowPhase, CrossingEdgesWithNoNodeInsideMakeAContact) {
     EXPECT_EQ(m.reference, 0);
     EXPECT_LE(length(m.normal - Vec3{0, 1, 0}), 1e-5f);
     EXPECT_NEAR(deepestPoint(m), -0.03f, 1e-4f);
+}
+
+// A thin rod through the middle of a thin plate, one cell each, so that neither box has a node
+// within the other's node bounds grown by the pair's margin (checked): phase 2 finds the pair
+// by the rod's box's centre, and the pair gets contacts. (The overlap recovery is off, so the
+// pair placed overlapping is an ordinary one.) Without the centre, it got none.
+TEST(ObjectContacts, ARodThroughAPlateIsFoundByItsBoxCentre) {
+    WorldSettings settings;
+    settings.gravity = {0, 0, 0};
+    settings.floor = false;
+    settings.overlapRecoverySpeed = 0;
+    World world(settings);
+    BodySettings plate, rod;
+    plate.lattice.cellSize = 1.2f;
+    plate.position = {0, 1, 0};
+    rod.lattice.cellSize = 0.7f;
+    rod.position = {0.1f, 1, 0.05f};
+    const BodyId p = world.addBody(box({0.5f, 0.02f, 0.5f}), plate);
+    const BodyId r = world.addBody(box({0.02f, 0.3f, 0.02f}), rod);
+    ASSERT_EQ(world.boxNodes(p).size(), 8u);
+    ASSERT_EQ(world.boxNodes(r).size(), 8u);
+    auto bounds = [](std::span<const Vec3> nodes) {
+        Aabb b;
+        for (const Vec3& n : nodes) b.add(n);
+        return b;
+    };
+    const float margin = settings.contactSkin * 1.2f + 0.01f;
+    for (const Vec3& n : world.boxNodes(r))
+        EXPECT_FALSE(bounds(world.boxNodes(p)).contains(n, margin));
+    for (const Vec3& n : world.boxNodes(p))
+        EXPECT_FALSE(bounds(world.boxNodes(r)).contains(n, margin));
+    world.step();
+    std::vector<BodyContact> partners;
+    touchingBodies(world, r, partners);
+    ASSERT_EQ(partners.size(), 1u);
+    EXPECT_EQ(partners[0].other, p);
 }
 
 // Only faces that lead out of their objects give the pair's normal: a box pushed 10 cm into
