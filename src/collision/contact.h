@@ -394,8 +394,8 @@ struct CollisionState {
     std::vector<Aabb> reachBounds, queryBounds;
     std::vector<Aabb> prefixBounds, suffixBounds, prefixQueryBounds, suffixQueryBounds;
     std::vector<uint8_t> boxFlags;               ///< per box: queried, hashed (this substep)
-    std::vector<uint32_t> hashedNodes;           ///< per body, its nodes hashed (this substep)
-    std::vector<SpatialHash::Batch> hashBatches; ///< the nodes staged per batch of bodies
+    std::vector<uint32_t> hashedSamples;         ///< per body, its boxes' samples hashed (substep)
+    std::vector<SpatialHash::Batch> hashBatches; ///< the samples staged per batch of bodies
     /// This substep's contacts: the objects' (canonical order), then the floor's.
     ContactList all;
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.

@@ -12,9 +12,7 @@ namespace ffd::detail {
 
 BoxPlanes boxPlanes(const Vec3 nodes[8]) {
     BoxPlanes planes;
-    Vec3 centre{};
-    for (int n = 0; n < 8; ++n) centre += nodes[n];
-    centre *= 0.125f;
+    const Vec3 centre = boxCentre(nodes);
     planes.centre = centre;
     // Mean edge along each parameter: the trilinear map's derivative at the centre.
     const Vec3 ea =

@@ -44,6 +44,14 @@ inline Vec3 boxParameters(const BoxPlanes& box, Vec3 p) {
 
 BoxPlanes boxPlanes(const Vec3 nodes[8]);
 
+/// A deformed box's centre: the mean of its 8 nodes (BoxPlanes::centre, and phase 2's ninth
+/// sample of the box).
+inline Vec3 boxCentre(const Vec3 nodes[8]) {
+    Vec3 centre{};
+    for (int n = 0; n < 8; ++n) centre += nodes[n];
+    return centre * 0.125f;
+}
+
 /// The faces of a box that lead out of its object, as BoxFace bits: its outside faces, or all
 /// six when it has none.
 inline uint8_t exitFaces(uint8_t outsideFaces) {

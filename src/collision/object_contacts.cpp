@@ -298,12 +298,8 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     // measure: docs/ALGORITHM.md §4, "Crossings"); its centre lies inside.
     auto forEachSample = [&](uint32_t box, auto&& fn) {
         const Vec3* nodes = &w.nodes[size_t(box) * 8];
-        Vec3 centre{};
-        for (uint32_t k = 0; k < 8; ++k) {
-            fn(box * 8 + k, nodes[k]);
-            centre += nodes[k];
-        }
-        fn(box * 8 | kCentreItem, centre * 0.125f);
+        for (uint32_t k = 0; k < 8; ++k) fn(box * 8 + k, nodes[k]);
+        fn(box * 8 | kCentreItem, boxCentre(nodes));
     };
     // Sample `node` of body A at p (a node, or a box's centre: kCentreItem), whose cube of A's
     // reach meets box `box` of body B grown by B's skin and reach (SpatialHash::cubeMeets: the one
@@ -420,7 +416,7 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     };
     constexpr uint8_t kQuery = 1, kHash = 2;
     s.boxFlags.resize(w.boxBounds.size());
-    s.hashedNodes.assign(n, 0);
+    s.hashedSamples.assign(n, 0);
     w.workers.forRange(n, [&](size_t firstBody, size_t lastBody, int slot) {
         CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
         for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
@@ -435,18 +431,18 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
                     near(q, grow(bb, s.skin[b] + s.reach[b]), q.partnerBounds, q.reachUnion);
                 const bool hash = near(q, grow(bb, s.reach[b]), q.partnerQueryBounds, q.queryUnion);
                 s.boxFlags[box] = uint8_t((query ? kQuery : 0) | (hash ? kHash : 0));
-                if (hash) s.hashedNodes[b] += 9; // nodes and centre
+                if (hash) s.hashedSamples[b] += 9; // nodes and centre
             }
         }
     });
-    size_t nodeCount = 0;
+    size_t sampleCount = 0;
     float cell = 0;
     for (uint32_t b = 0; b < n; ++b)
         if (isCandidate(b))
-            nodeCount += s.hashedNodes[b], cell = maxNum(cell, w.bodies[b].cellSize);
-    if (nodeCount == 0) return;
-    s.hash.begin(nodeCount, cell, s.reach, kReachAllowance * cell);
-    // The hashed boxes' nodes staged in batches of bodies on the threads, added in body order.
+            sampleCount += s.hashedSamples[b], cell = maxNum(cell, w.bodies[b].cellSize);
+    if (sampleCount == 0) return;
+    s.hash.begin(sampleCount, cell, s.reach, kReachAllowance * cell);
+    // The hashed boxes' samples staged in batches of bodies on the threads, added in body order.
     constexpr size_t kBodiesPerBatch = 16;
     const size_t batches = (n + kBodiesPerBatch - 1) / kBodiesPerBatch;
     if (s.hashBatches.size() < batches) s.hashBatches.resize(batches);
