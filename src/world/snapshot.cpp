@@ -5,7 +5,8 @@
 //
 //   header (32 bytes)  "FFDSTATE", u32 format version, u32 0 (reserved), u64 payload bytes,
 //                      u64 payload checksum (checksum(): FNV-1a over the payload's 64-bit
-//                      words, then over its last bytes one by one)
+//                      words, each step's high half folded into its low half, then over its
+//                      last bytes one by one)
 //   payload            sections, each: u32 tag (four ASCII characters, the first in the lowest
 //                      byte), u32 section version, u64 bytes, then its bytes. Every section
 //                      below appears once, in any order; a tag this build does not know is
@@ -70,7 +71,7 @@ using detail::WorldData;
 namespace {
 
 constexpr char kMagic[8] = {'F', 'F', 'D', 'S', 'T', 'A', 'T', 'E'};
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;
 constexpr size_t kHeaderBytes = 32;
 constexpr bool kLittle = std::endian::native == std::endian::little;
 
@@ -137,8 +138,11 @@ std::string buildFingerprint() {
     return s;
 }
 
-// FNV-1a over 64-bit little-endian words, then over the last bytes one by one: a change within
-// one word is always detected (each step is a bijection of the running value).
+// FNV-1a over 64-bit little-endian words, each step's high half folded into its low half, then
+// over the last bytes one by one: a change within one word is always detected (each step is a
+// bijection of the running value). Without the fold (format 1) a product carries a change only
+// upwards, so a flip in a word's high bits changed only the top bits of the sum and two flips of
+// the same high bit in two words cancelled one time in about 64 (format 2).
 uint64_t checksum(std::span<const uint8_t> bytes) {
     constexpr uint64_t kPrime = 1099511628211ull;
     uint64_t h = 14695981039346656037ull;
@@ -148,6 +152,7 @@ uint64_t checksum(std::span<const uint8_t> bytes) {
         std::memcpy(&word, bytes.data() + i, 8);
         if constexpr (!kLittle) word = __builtin_bswap64(word);
         h = (h ^ word) * kPrime;
+        h ^= h >> 32;
     }
     for (; i < bytes.size(); ++i) h = (h ^ bytes[i]) * kPrime;
     return h;

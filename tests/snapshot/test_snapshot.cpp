@@ -45,8 +45,8 @@ void writeU32(Bytes& b, size_t at, uint32_t v) {
     for (int i = 0; i < 4; ++i) b[at + size_t(i)] = uint8_t(v >> (8 * i));
 }
 
-// The documented checksum: FNV-1a over the payload's 64-bit little-endian words, then its last
-// bytes one by one.
+// The documented checksum: FNV-1a over the payload's 64-bit little-endian words, each step's
+// high half folded into its low half, then its last bytes one by one.
 uint64_t checksum(const uint8_t* p, size_t n) {
     uint64_t h = 14695981039346656037ull;
     size_t i = 0;
@@ -54,6 +54,7 @@ uint64_t checksum(const uint8_t* p, size_t n) {
         uint64_t w = 0;
         for (int k = 0; k < 8; ++k) w |= uint64_t(p[i + size_t(k)]) << (8 * k);
         h = (h ^ w) * 1099511628211ull;
+        h ^= h >> 32;
     }
     for (; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
     return h;
@@ -509,8 +510,8 @@ TEST(Snapshot, RefusesBytesThatAreNotAState) {
     expectRefused(Bytes{'h', 'e', 'l', 'l', 'o'}, "state: not an ffdaabb state");
     expectRefused(Bytes(state.begin(), state.begin() + 20), "state: truncated: 20 bytes, shorter");
     Bytes b = state;
-    writeU32(b, 8, 2);
-    expectRefused(b, "state: format version 2, this build reads version 1");
+    writeU32(b, 8, 1); // the format before the checksum's fold
+    expectRefused(b, "state: format version 1, this build reads version 2");
     b = state;
     b.pop_back();
     expectRefused(b, "state: truncated: the header announces");
@@ -519,6 +520,12 @@ TEST(Snapshot, RefusesBytesThatAreNotAState) {
     expectRefused(b, "state: malformed: 1 bytes after the state's end (expected none)");
     b = state;
     b[b.size() / 2] ^= 0x10;
+    expectRefused(b, "state: corrupted: its checksum does not match");
+    // The top bit of two consecutive words: without the fold a product carries a change only
+    // upwards, so the first flip changed only the sum's top bit and the second undid it.
+    b = state;
+    b[kHeader + 7] ^= 0x80;
+    b[kHeader + 15] ^= 0x80;
     expectRefused(b, "state: corrupted: its checksum does not match");
     b = state;
     b[12] = 1;
