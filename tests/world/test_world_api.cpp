@@ -121,7 +121,6 @@ TEST(WorldApi, ContactsNameTheirBodiesAndPushThemApart) {
     world.contacts(contacts);
     EXPECT_TRUE(contacts.empty()); // nothing stepped yet
     int floor = 0, between = 0;
-    double lift = 0; // upward impulse on the upper ball, N s
     for (int f = 0; f < 300; ++f) world.step();
     world.contacts(contacts);
     for (const ContactInfo& c : contacts) {
@@ -141,15 +140,24 @@ TEST(WorldApi, ContactsNameTheirBodiesAndPushThemApart) {
             // The upper ball is pushed up off the lower one, the lower one down.
             const float up = c.bodyA == upper ? 1.0f : -1.0f;
             EXPECT_GT(c.normal.y * up, 0.5f);
-            lift += double(c.impulse * c.normal.y * up);
         }
     }
     EXPECT_GT(floor, 0);
     EXPECT_GT(between, 0);
-    // At rest, the impulses carry the upper ball's weight: over a substep, m g dt.
+    // At rest, the impulses carry the upper ball's weight: over a substep, m g dt. The ball
+    // rocks a little on its contacts, so one substep's lift is within about 6 % of it (one
+    // standard deviation, measured over 400 frames); their mean over 60 frames within 2 %.
+    double lift = 0; // upward impulse on the upper ball, N s, summed over the frames
+    for (int f = 0; f < 60; ++f) {
+        world.step();
+        world.contacts(contacts);
+        for (const ContactInfo& c : contacts)
+            if (!c.bodyB.isNull())
+                lift += double(c.impulse * c.normal.y) * (c.bodyA == upper ? 1 : -1);
+    }
     const double weight =
         world.info(upper).mass * 9.81 * world.settings().frameStep / world.settings().substeps;
-    EXPECT_NEAR(lift, weight, 0.05 * weight);
+    EXPECT_NEAR(lift / 60, weight, 0.02 * weight);
     // Removing a body drops the contacts, which name its particles.
     world.removeBody(upper);
     world.contacts(contacts);
