@@ -135,9 +135,8 @@ struct WorldSettings {
     /// restored, a light body squeezed, bodies created overlapping): without the bound the phase
     /// turns it into rigid motion and throws such bodies from piles at tens of m/s. Lower bounds
     /// let impacts sink deeper; higher ones let more throws through and, with bodies created
-    /// overlapping, more energy (docs/ALGORITHM.md, section 5, "Separation bound": 0.5 since
-    /// contact normals follow their face within the substep).
-    float maxSeparationSpeed = 0.5f;
+    /// overlapping, more energy (docs/ALGORITHM.md, section 5, "Separation bound").
+    float maxSeparationSpeed = 1.0f;
     /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
     /// overlap deeper than the contact skin is pushed out by at most the skin plus this speed
     /// times the substep per substep, by moving positions, without adding velocity: bodies

@@ -37,12 +37,12 @@ void scheduleContacts(CollisionWorld& w) {
 }
 
 // Turns each object contact's normal to its face of B's box (Contact::face) as the move left
-// it: the normal boxPlanes gives that face, from the box's nodes blended from its cell's
-// particles, oriented as before. The contacts are found at the start of the substep; a face
-// that turned fast within it (a letter's cell, 15 degrees in a substep as its letter landed)
-// left them pushing along the face as it was, and the point went 1.1 cm in under the face as it
-// is (docs/ALGORITHM.md §5, "Normals that follow their face"). A box whose volume halved or
-// doubled in the substep is being crushed or restored: its faces swing by tens of degrees and
+// it: the normal boxPlanes gives that face, from the box's nodes as node_update makes them (the
+// same normal when nothing moved), oriented as before. The contacts are found at the start of the
+// substep; a face that turned fast within it (a letter's cell, 15 degrees in a substep as its
+// letter landed) left them pushing along the face as it was, and the point went 1.1 cm in under the
+// face as it is (docs/ALGORITHM.md §5, "Normals that follow their face"). A box whose volume halved
+// or doubled in the substep is being crushed or restored: its faces swing by tens of degrees and
 // are no guide, and its contacts keep their normals (followed there, spheres created deep in
 // each other were thrown apart faster with every frame).
 void followFaces(CollisionWorld& w) {
@@ -53,10 +53,9 @@ void followFaces(CollisionWorld& w) {
             Contact& c = contacts[n];
             if (c.face == Contact::kNoFace) continue;
             const CollisionBody& B = w.bodies[c.bodyB];
-            const CellBox& box = B.lattice->boxes[c.b.box - B.firstBox];
             Vec3 nodes[8];
-            for (int k = 0; k < 8; ++k)
-                nodes[k] = blend(ContactPoint{c.b.box, box.nodeLocal(k)}, s.boxParticles, w.x);
+            updateBoxNodes(*B.lattice, std::span(w.x).subspan(B.firstParticle, B.particleCount),
+                           c.b.box - B.firstBox, 1, nodes);
             const float volume = determinant(boxFrame(nodes) * s.planes[c.b.box].inverseFrame);
             if (!(volume > 0.5f && volume < 2.0f)) continue;
             const int* f = kFaceNodes[c.face];
