@@ -38,13 +38,13 @@ void scheduleContacts(CollisionWorld& w) {
 
 // Turns each object contact's normal to its face of B's box (Contact::face) as the move left
 // it: the normal boxPlanes gives that face, from the box's nodes as node_update makes them (the
-// same normal when nothing moved), oriented as before. The contacts are found at the start of the
-// substep; a face that turned fast within it (a letter's cell, 15 degrees in a substep as its
-// letter landed) left them pushing along the face as it was, and the point went 1.1 cm in under the
-// face as it is (docs/ALGORITHM.md §5, "Normals that follow their face"). A box whose volume halved
-// or doubled in the substep is being crushed or restored: its faces swing by tens of degrees and
-// are no guide, and its contacts keep their normals (followed there, spheres created deep in
-// each other were thrown apart faster with every frame).
+// same normal, to rounding, when nothing moved), oriented as before. The contacts are found at the
+// start of the substep; a face that turned fast within it (a letter's cell, 15 degrees in a substep
+// as its letter landed) left them pushing along the face as it was, and the point went 1.1 cm in
+// under the face as it is (docs/ALGORITHM.md §5, "Normals that follow their face"). A box whose
+// volume halved or doubled in the substep is being crushed or restored: its faces swing by tens of
+// degrees and are no guide, and its contacts keep their normals (followed there, spheres created
+// deep in each other were thrown apart faster with every frame).
 void followFaces(CollisionWorld& w) {
     CollisionState& s = w.collision;
     std::span<Contact> contacts(s.all.data(), s.objectCount);
