@@ -134,8 +134,8 @@ struct WorldSettings {
     /// at a contact; 0: no bound. Particle velocity at a contact can be deformation (a dent being
     /// restored, a light body squeezed, bodies created overlapping): without the bound the phase
     /// turns it into rigid motion and throws such bodies from piles at tens of m/s. Lower bounds
-    /// let impacts sink deeper; higher ones let more throws through and, with bodies created
-    /// overlapping, more energy (docs/ALGORITHM.md, section 5, "Separation bound").
+    /// let impacts sink deeper; higher ones let more throws through (docs/ALGORITHM.md, section
+    /// 5, "Separation bound").
     float maxSeparationSpeed = 1.0f;
     /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
     /// overlap deeper than the contact skin is pushed out by at most the skin plus this speed

@@ -96,11 +96,6 @@ struct Contact {
     /// leaves it out, since its approach is its bodies restoring the dent the last push-out left.
     bool pushedOut = false;
     bool hasB = false;
-    /// The face of B's box whose plane gave the normal (object contacts; kNoFace for the
-    /// floor's and a plane's): after the move the normal is that face's as it now stands
-    /// (collision/response.cpp, followFaces).
-    uint8_t face = kNoFace;
-    static constexpr uint8_t kNoFace = 255;
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
     /// A's point: its box x 8 + its index in the box pair's manifold (object contacts), or its

@@ -14,7 +14,18 @@ BoxPlanes boxPlanes(const Vec3 nodes[8]) {
     BoxPlanes planes;
     const Vec3 centre = boxCentre(nodes);
     planes.centre = centre;
-    if (!inverse(boxFrame(nodes), planes.inverseFrame, 1e-30f)) planes.inverseFrame = Mat3{};
+    // Mean edge along each parameter: the trilinear map's derivative at the centre.
+    const Vec3 ea =
+        (nodes[1] - nodes[0] + nodes[3] - nodes[2] + nodes[5] - nodes[4] + nodes[7] - nodes[6]) *
+        0.25f;
+    const Vec3 eb =
+        (nodes[2] - nodes[0] + nodes[3] - nodes[1] + nodes[6] - nodes[4] + nodes[7] - nodes[5]) *
+        0.25f;
+    const Vec3 ec =
+        (nodes[4] - nodes[0] + nodes[5] - nodes[1] + nodes[6] - nodes[2] + nodes[7] - nodes[3]) *
+        0.25f;
+    if (!inverse(Mat3::fromColumns(ea, eb, ec), planes.inverseFrame, 1e-30f))
+        planes.inverseFrame = Mat3{};
     for (int f = 0; f < 6; ++f) {
         const Vec3 q0 = nodes[kFaceNodes[f][0]], q1 = nodes[kFaceNodes[f][1]],
                    q2 = nodes[kFaceNodes[f][2]], q3 = nodes[kFaceNodes[f][3]];
@@ -233,8 +244,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     int kept = 0;
     for (int k = 0; k < count; ++k) {
         const float d = dot(n, polygon[cur][k].position) - offset;
-        if (d < margin)
-            found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d, n, m.face};
+        if (d < margin) found[kept++] = {polygon[cur][k].position, polygon[cur][k].local, d, n};
     }
     if (kept == 0) {
         // The incident face lies beyond the reference face's sides (an edge or a corner of the
@@ -242,7 +252,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
         // margin of the reference plane, which the planes say the pair overlaps by.
         for (int k = 0; k < 8; ++k) {
             const float d = dot(n, inc.nodes[k]) - offset;
-            if (d < margin) found[kept++] = {inc.nodes[k], inc.local[k], d, n, m.face};
+            if (d < margin) found[kept++] = {inc.nodes[k], inc.local[k], d, n};
         }
         if (kept == 0) {
             m.reference = -1;
@@ -272,7 +282,7 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
                 beyond = d, side = g;
         }
         if (!near || side < 0) continue;
-        m.point[m.count++] = {p, inc.local[k], beyond, ref.planes->normal[side], side};
+        m.point[m.count++] = {p, inc.local[k], beyond, ref.planes->normal[side]};
     }
     return m;
 }

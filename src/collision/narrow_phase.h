@@ -52,21 +52,6 @@ inline Vec3 boxCentre(const Vec3 nodes[8]) {
     return centre * 0.125f;
 }
 
-/// A deformed box's linearised frame: its trilinear map's derivative at the centre, the mean
-/// edge along each parameter as columns (BoxPlanes::inverseFrame is its inverse).
-inline Mat3 boxFrame(const Vec3 nodes[8]) {
-    const Vec3 ea =
-        (nodes[1] - nodes[0] + nodes[3] - nodes[2] + nodes[5] - nodes[4] + nodes[7] - nodes[6]) *
-        0.25f;
-    const Vec3 eb =
-        (nodes[2] - nodes[0] + nodes[3] - nodes[1] + nodes[6] - nodes[4] + nodes[7] - nodes[5]) *
-        0.25f;
-    const Vec3 ec =
-        (nodes[4] - nodes[0] + nodes[5] - nodes[1] + nodes[6] - nodes[2] + nodes[7] - nodes[3]) *
-        0.25f;
-    return Mat3::fromColumns(ea, eb, ec);
-}
-
 /// The faces of a box that lead out of its object, as BoxFace bits: its outside faces, or all
 /// six when it has none.
 inline uint8_t exitFaces(uint8_t outsideFaces) {
@@ -108,7 +93,6 @@ struct ManifoldPoint {
     Vec3 local;         ///< local coordinates in the incident box's cell
     float distance = 0; ///< signed distance to the plane of `normal` (negative: inside)
     Vec3 normal;        ///< the way the incident box must move at this point
-    int face = -1;      ///< the reference box's face whose plane gives `normal`
 };
 
 /// The contact manifold of two deformed cell boxes (boxPairManifold).

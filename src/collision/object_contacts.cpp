@@ -135,7 +135,6 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
                                           pt.normal, pt.distance,
                                           pt.position - pt.normal * pt.distance, *view[ref].planes);
             c.nodeA = box[inc] * 8 + uint32_t(k);
-            c.face = uint8_t(pt.face);
             deepest = maxNum(deepest, -pt.distance);
             closing = maxNum(closing, -dot(va - blend(c.b, s.boxParticles, w.v), c.normal));
             contacts.push_back(c);

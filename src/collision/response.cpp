@@ -36,36 +36,6 @@ void scheduleContacts(CollisionWorld& w) {
     buildSolverSchedule(s.all, cells, s.solver.schedule, w.workers);
 }
 
-// Turns each object contact's normal to its face of B's box (Contact::face) as the move left
-// it: the normal boxPlanes gives that face, from the box's nodes as node_update makes them (the
-// same normal, to rounding, when nothing moved), oriented as before. The contacts are found at the
-// start of the substep; a face that turned fast within it (a letter's cell, 15 degrees in a substep
-// as its letter landed) left them pushing along the face as it was, and the point went 1.1 cm in
-// under the face as it is (docs/ALGORITHM.md §5, "Normals that follow their face"). A box whose
-// volume halved or doubled in the substep is being crushed or restored: its faces swing by tens of
-// degrees and are no guide, and its contacts keep their normals (followed there, spheres created
-// deep in each other were thrown apart faster with every frame).
-void followFaces(CollisionWorld& w) {
-    CollisionState& s = w.collision;
-    std::span<Contact> contacts(s.all.data(), s.objectCount);
-    w.workers.forRange(contacts.size(), [&](size_t first, size_t last, int) {
-        for (size_t n = first; n < last; ++n) {
-            Contact& c = contacts[n];
-            if (c.face == Contact::kNoFace) continue;
-            const CollisionBody& B = w.bodies[c.bodyB];
-            Vec3 nodes[8];
-            updateBoxNodes(*B.lattice, std::span(w.x).subspan(B.firstParticle, B.particleCount),
-                           c.b.box - B.firstBox, 1, nodes);
-            const float volume = determinant(boxFrame(nodes) * s.planes[c.b.box].inverseFrame);
-            if (!(volume > 0.5f && volume < 2.0f)) continue;
-            const int* f = kFaceNodes[c.face];
-            const Vec3 normal =
-                normalize(cross(nodes[f[2]] - nodes[f[0]], nodes[f[3]] - nodes[f[1]]));
-            if (isFinite(normal)) c.normal = dot(normal, c.normal) < 0 ? -normal : normal;
-        }
-    });
-}
-
 } // namespace
 
 void respondBeforeMove(CollisionWorld& w, float dt) {
@@ -93,7 +63,6 @@ float respondAfterMove(CollisionWorld& w, float dt) {
     if (s.all.empty()) return 0;
     const int iterations = w.settings.solverIterations;
     const float impact = 2.0f * length(w.settings.gravity) * dt;
-    followFaces(w);
     if (w.settings.rigidProjection > 0)
         projectRigidModes(s.all, s.boxParticles, s.rigid, s.rigidPoints, w.x, w.v, w.invMass,
                           s.bodyFirstParticle, s.bodyParticleCount, dt, w.settings.rigidProjection,
