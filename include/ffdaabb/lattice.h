@@ -85,6 +85,11 @@ struct Lattice {
     std::vector<Vec3> restParticles;       ///< #P rest positions, metres
     std::vector<GridCoord> particleCoords; ///< #P grid coordinates
 
+    /// #P each particle's share of the body's mass (they sum to 1): the mesh's volume, sampled
+    /// on a grid finer than the cells, spread to its cells' corners by trilinear weights, so
+    /// that the particles' centre of mass and inertia are the volume's; each particle keeps at
+    /// least a tenth of an even share (M/(8C) per incident cell).
+    std::vector<float> massFraction;
     std::vector<Embedding> vertices; ///< #V embedding of every mesh vertex
     std::vector<CellBox> boxes;      ///< #B one per surface cell, in cell order
     std::vector<uint32_t> cellBox;   ///< #C box index of each cell, UINT32_MAX for interior

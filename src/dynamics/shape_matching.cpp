@@ -251,6 +251,7 @@ Vec3 massCentre(const ShapeMatchingModel& model, std::span<const Vec3> x) {
 } // namespace
 
 std::vector<float> cornerMassFractions(const Lattice& lattice) {
+    if (lattice.massFraction.size() == lattice.particleCount()) return lattice.massFraction;
     std::vector<float> m(lattice.particleCount(), 0.0f);
     const float share = 1.0f / (8.0f * float(lattice.cellCount()));
     for (const auto& corners : lattice.cellParticles)

@@ -139,6 +139,67 @@ std::vector<uint8_t> voxelize(const TriangleMesh& mesh, const Grid& g, bool fill
     return state;
 }
 
+// Sub-cells per cell edge for the mass distribution, and the budget of sub-cells it may sample.
+constexpr int kMassSamples = 8;
+constexpr int64_t kMassSampleBudget = int64_t(1) << 22;
+// The least mass a particle keeps, as a share of its even share (massFractions).
+constexpr float kLeastMassShare = 0.1f;
+
+// Each particle's share of the body's mass (Lattice::massFraction): the mesh voxelised again on a
+// grid n times finer than the cells (n = kMassSamples, less for lattices past the budget), each
+// sub-cell weighing 1 when inside the surface, 1/2 when the surface touches it and 0 outside,
+// spread to the 8 corners of its cell by the trilinear weights of its centre. The body's centre
+// of mass and its inertia are then those of the mesh's volume (to about a sub-cell), where an
+// even share per cell put them at the lattice's centre: a letter a cell deep whose back face
+// grazes a second layer of cells had its centre of mass on that face, and a sphere its centre
+// 19 % of its radius off (docs/ALGORITHM.md §1, "Mass"). Every particle keeps at least
+// kLeastMassShare of its even share (its incident cells' M/(8C)), so that none is massless; an
+// empty volume (a sheet voxelised without interior) gives the even shares.
+std::vector<float> massFractions(const TriangleMesh& mesh, const Lattice& L, const Grid& g,
+                                 bool fillInterior) {
+    const size_t P = L.particleCount();
+    std::vector<float> even(P, 0.0f);
+    const float share = 1.0f / (8.0f * float(L.cellCount()));
+    for (const auto& corners : L.cellParticles)
+        for (const uint32_t p : corners) even[p] += share;
+    int n = kMassSamples;
+    while (n > 1 && g.size() * n * n * n > kMassSampleBudget) --n;
+    Grid fine;
+    fine.h = g.h / float(n);
+    fine.origin = g.origin;
+    for (int a = 0; a < 3; ++a) fine.dims[a] = g.dims[a] * n;
+    const std::vector<uint8_t> state = voxelize(mesh, fine, fillInterior);
+    std::vector<double> mass(P, 0.0);
+    double total = 0;
+    for (size_t c = 0; c < L.cellCount(); ++c) {
+        const GridCoord& cell = L.cells[c];
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const uint8_t st = state[size_t(
+                        fine.index(cell[0] * n + i, cell[1] * n + j, cell[2] * n + k))];
+                    const double weight = st == kInterior ? 1.0 : st == kSurface ? 0.5 : 0.0;
+                    if (weight == 0) continue;
+                    const Vec3 local{(float(i) + 0.5f) / float(n), (float(j) + 0.5f) / float(n),
+                                     (float(k) + 0.5f) / float(n)};
+                    float w[8];
+                    trilinearWeights(local, w);
+                    for (int corner = 0; corner < 8; ++corner)
+                        mass[L.cellParticles[c][corner]] += weight * double(w[corner]);
+                    total += weight;
+                }
+    }
+    if (!(total > 0)) return even;
+    std::vector<float> out(P);
+    double sum = 0;
+    for (size_t p = 0; p < P; ++p) {
+        out[p] = std::max(float(mass[p] / total), kLeastMassShare * even[p]);
+        sum += double(out[p]);
+    }
+    for (float& m : out) m = float(double(m) / sum);
+    return out;
+}
+
 void checkSettings(const LatticeSettings& s) {
     if (!std::isfinite(s.cellSize) || s.cellSize < 0)
         throw InputError("lattice.cellSize", "cell size " + describe(s.cellSize) +
@@ -387,6 +448,8 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
         L.cellBox[c] = uint32_t(L.boxes.size());
         L.boxes.push_back(box);
     }
+
+    L.massFraction = massFractions(mesh, L, g, settings.fillInterior);
 
     stats.buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

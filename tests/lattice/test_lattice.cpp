@@ -421,3 +421,67 @@ TEST(Lattice, ASingleCellLattice) {
     EXPECT_EQ(L.boxes.size(), 1u);
     EXPECT_EQ(L.boxes[0].outsideFaces, 63);
 }
+
+namespace {
+
+// The particles' centre of mass at rest: their mass fractions times their rest positions.
+Vec3 restMassCentre(const Lattice& L) {
+    Vec3 c{};
+    for (size_t p = 0; p < L.particleCount(); ++p) c += L.restParticles[p] * L.massFraction[p];
+    return c;
+}
+
+void expectValidMassFractions(const Lattice& L) {
+    ASSERT_EQ(L.massFraction.size(), L.particleCount());
+    double sum = 0;
+    for (const float m : L.massFraction) {
+        EXPECT_GT(m, 0.0f);
+        sum += double(m);
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-5);
+}
+
+} // namespace
+
+// A sphere's grid is anchored at its minimum corner, so its lattice overhangs it on the far
+// sides; with an even share per cell the particles' centre of mass lay 11 cm off the centre of a
+// unit sphere on each axis. Spread by the volume it is the sphere's centre.
+TEST(LatticeMass, ASpheresCentreOfMassIsItsCentre) {
+    LatticeSettings s;
+    s.targetCells = 38;
+    const Lattice L = buildLattice(icosphere(2), s);
+    expectValidMassFractions(L);
+    const Vec3 c = restMassCentre(L);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(c[a], 0.0f, 0.02f) << "axis " << a;
+}
+
+// A slab a hair deeper than one cell gets a second layer of cells that its back face only
+// grazes: an even share per cell put half the mass in that empty layer, and the centre of mass
+// on the slab's back face (the letters' case, docs/ALGORITHM.md §1, "Mass").
+TEST(LatticeMass, AnEmptyLayerOfCellsCarriesAlmostNoMass) {
+    const TriangleMesh slab = box({0.49f, 0.49f, 0.125f});
+    LatticeSettings s;
+    s.cellSize = 0.2499f;
+    const Lattice L = buildLattice(slab, s);
+    ASSERT_EQ(L.dims[2], 2);
+    expectValidMassFractions(L);
+    const Vec3 c = restMassCentre(L);
+    EXPECT_NEAR(c.z, 0.0f, 0.025f); // a tenth of the depth; the even share gave 0.125
+    EXPECT_NEAR(c.x, 0.0f, 0.01f);
+    EXPECT_NEAR(c.y, 0.0f, 0.01f);
+    // The particles of the far plane keep only their least share.
+    double far = 0;
+    for (size_t p = 0; p < L.particleCount(); ++p)
+        if (L.particleCoords[p][2] == 2) far += double(L.massFraction[p]);
+    EXPECT_LT(far, 0.05);
+}
+
+// An open sheet has no volume: without an interior its surface cells weigh alike.
+TEST(LatticeMass, AnOpenSheetIsSpreadOverItsCells) {
+    const TriangleMesh plate = testMeshes()[2];
+    const Lattice L = buildLattice(plate);
+    expectValidMassFractions(L);
+    const Vec3 c = restMassCentre(L);
+    EXPECT_NEAR(c.x, 0.5f, 0.05f);
+    EXPECT_NEAR(c.z, 0.5f, 0.05f);
+}
