@@ -250,15 +250,6 @@ Vec3 massCentre(const ShapeMatchingModel& model, std::span<const Vec3> x) {
 
 } // namespace
 
-std::vector<float> cornerMassFractions(const Lattice& lattice) {
-    if (lattice.massFraction.size() == lattice.particleCount()) return lattice.massFraction;
-    std::vector<float> m(lattice.particleCount(), 0.0f);
-    const float share = 1.0f / (8.0f * float(lattice.cellCount()));
-    for (const auto& corners : lattice.cellParticles)
-        for (uint32_t p : corners) m[p] += share;
-    return m;
-}
-
 ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int w) {
     if (w < 1 || w > 4)
         throw InputError("body.regionHalfWidth", "region half-width " + std::to_string(w) +
@@ -292,7 +283,7 @@ ShapeMatchingModel buildShapeMatching(const Lattice& lattice, int w) {
                 }
         m.memberStart.push_back(uint32_t(m.members.size()));
     }
-    m.massFraction = cornerMassFractions(lattice);
+    m.massFraction = lattice.massFraction;
     m.regionSize.resize(P);
     m.tildeMass.resize(P);
     for (size_t p = 0; p < P; ++p) {

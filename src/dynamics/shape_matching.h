@@ -104,8 +104,4 @@ void shapeMatchingGoals(const ShapeMatchingModel& model, std::span<const Vec3> x
 /// subtracts the mass-weighted mean from ioVelocityChange (#P), the sums taken in double.
 void removeMomentumDrift(std::span<const float> mass, std::span<Vec3> ioVelocityChange);
 
-/// Mass fraction of each particle: the lattice's (Lattice::massFraction, the mesh's volume), or
-/// for a lattice without them, each cell's share 1/C split equally among its 8 corners.
-std::vector<float> cornerMassFractions(const Lattice& lattice);
-
 } // namespace ffd::detail

@@ -210,7 +210,7 @@ void fallAsleep(WorldData& w) {
             float speed2 = 0, motion2 = 0;
             for (uint32_t p = 0; p < r.particleCount; ++p) {
                 const uint32_t i = r.firstParticle + p;
-                const float f = r.model->massFraction[p];
+                const float f = r.model->lattice.massFraction[p];
                 speed2 += f * lengthSquared(w.v[i]);
                 motion2 += f * lengthSquared(w.x[i] - w.frameStartX[i]);
             }

@@ -116,13 +116,10 @@ std::shared_ptr<const BodyModel> buildModel(const TriangleMesh& mesh, const Body
     model->mesh = mesh;
     model->lattice = buildLattice(mesh, s.lattice);
     model->dynamics = s.model;
-    if (s.model == DynamicsModel::ShapeMatching) {
+    if (s.model == DynamicsModel::ShapeMatching)
         model->shapeMatching = detail::buildShapeMatching(model->lattice, s.regionHalfWidth);
-        model->massFraction = model->shapeMatching.massFraction;
-    } else {
+    else
         model->springs = detail::buildMassSpring(model->lattice);
-        model->massFraction = detail::cornerMassFractions(model->lattice);
-    }
     const double meshVolume = isClosed(mesh) ? signedVolume(mesh) : 0.0;
     const double h = model->lattice.cellSize;
     model->volume =
@@ -192,7 +189,7 @@ void syncCollisionBodies(WorldData& w) {
         const BodyRecord& r = w.bodies[b];
         CollisionBody& c = w.collision.bodies[b];
         c.lattice = &r.model->lattice;
-        c.massFraction = r.model->massFraction;
+        c.massFraction = r.model->lattice.massFraction;
         c.firstParticle = r.firstParticle, c.particleCount = r.particleCount;
         c.firstBox = r.firstBox, c.boxCount = r.boxCount;
         c.cellSize = r.cellSize;
@@ -243,12 +240,12 @@ BodyId World::addBody(const TriangleMesh& mesh, const BodySettings& settings) {
     const Mat3 R = toMat3(r.settings.rotation);
     Vec3 centre{};
     for (uint32_t p = 0; p < r.particleCount; ++p)
-        centre += (R * L.restParticles[p]) * model->massFraction[p];
+        centre += (R * L.restParticles[p]) * model->lattice.massFraction[p];
     for (uint32_t p = 0; p < r.particleCount; ++p) {
         const Vec3 arm = R * L.restParticles[p];
         w.x.push_back(arm + settings.position);
         w.v.push_back(settings.velocity + cross(settings.angularVelocity, arm - centre));
-        w.invMass.push_back(1.0f / (r.mass * model->massFraction[p]));
+        w.invMass.push_back(1.0f / (r.mass * model->lattice.massFraction[p]));
         w.particleForce.push_back({});
         w.rotations.push_back(r.settings.rotation);
         w.rotationSteps.push_back(Quat{});

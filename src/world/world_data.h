@@ -25,7 +25,6 @@ struct BodyModel {
     DynamicsModel dynamics = DynamicsModel::ShapeMatching;
     ShapeMatchingModel shapeMatching; ///< empty for mass-spring bodies
     MassSpringModel springs;          ///< empty for shape-matching bodies
-    std::vector<float> massFraction;  ///< #P, sums to 1
     float volume = 0;                 ///< m^3: the mesh's when closed, else the lattice's
 };
 
@@ -148,7 +147,7 @@ void syncCollisionBodies(WorldData& world);
 inline Vec3 massWeightedMean(const BodyRecord& r, const std::vector<Vec3>& perParticle) {
     Vec3 sum{};
     for (uint32_t p = 0; p < r.particleCount; ++p)
-        sum += perParticle[r.firstParticle + p] * r.model->massFraction[p];
+        sum += perParticle[r.firstParticle + p] * r.model->lattice.massFraction[p];
     return sum;
 }
 
