@@ -373,12 +373,19 @@ struct CollisionState {
         std::vector<uint8_t> partnerMark; ///< per body, during a box's query
         std::vector<float> partnerMargin; ///< per body, its margin against the querying object
         std::vector<uint64_t> keys;       ///< the box pairs it found (merged, sorted, unique)
-        int potential = 0;                ///< node/box pairs it tested
+        std::vector<uint64_t> keySortScratch;
+        int potential = 0; ///< node/box pairs it tested
         /// The partners of the body whose boxes it flags: their bounds one by one, or their
         /// unions when there are many.
         std::vector<Aabb> partnerBounds, partnerQueryBounds;
         Aabb reachUnion, queryUnion;
         bool individual = true;
+        /// The querying body's queried boxes and their query bounds, and the grouped query's
+        /// scratch.
+        std::vector<uint32_t> queryBoxes;
+        std::vector<Aabb> queryWithin;
+        std::vector<uint64_t> lastKey; ///< per queried box, the box pair it found last
+        SpatialHash::GroupScratch group;
     };
     std::vector<QueryScratch> queryScratch;
     /// Per chunk of box pairs (a fixed number of consecutive keys), the contacts and claims of

@@ -60,6 +60,10 @@ void findObjectContacts(CollisionWorld& world, CollisionMode mode, ContactList& 
 /// other consistently.
 void findAllObjectContacts(CollisionWorld& world);
 
+/// Sorts box-pair keys (low box << 32 | high box, each below `boxes`) ascending, as std::sort
+/// would: by radix on the two halves packed together when there are many (`scratch` is reused).
+void sortBoxPairKeys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch, uint32_t boxes);
+
 /// The response before the position update: pre-stabilisation and the rigid phase (see
 /// collision/contact.h).
 void respondBeforeMove(CollisionWorld& world, float dt);

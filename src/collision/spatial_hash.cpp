@@ -2,6 +2,8 @@
 // Objects", VMV 2003.
 #include "collision/spatial_hash.h"
 
+#include <algorithm>
+
 namespace ffd::detail {
 
 uint32_t nextPrime(uint32_t n) {
@@ -41,7 +43,10 @@ void SpatialHash::reserveTable(size_t entries) {
     const size_t wanted = 2 * entries + 1;
     if (buckets_.size() < wanted) {
         // Grow (never shrink, so the steady state reuses the table); fresh buckets carry stamp 0.
-        buckets_.assign(nextPrime(uint32_t(wanted)), Bucket{});
+        // By half again at least: a pile that forms adds entries substep after substep, and
+        // growing to each new count rebuilt the table 73 times in the alphabets' 360 frames.
+        const size_t grown = std::max(wanted, buckets_.size() + buckets_.size() / 2);
+        buckets_.assign(nextPrime(uint32_t(grown)), Bucket{});
         tableSize_ = uint32_t(buckets_.size());
         modMagic_ = fastModMagic(tableSize_);
         stamp_ = 1; // nothing in the fresh table is current
@@ -60,6 +65,10 @@ void SpatialHash::addBatches(std::span<const Batch> batches, Workers& workers) {
                   staged_.begin() + ptrdiff_t(at[b]));
     });
 }
+
+// How many entries ahead the build's passes prefetch the bucket they will touch: the buckets lie
+// at random in a table larger than the cache.
+constexpr size_t kPrefetchAhead = 16;
 
 void SpatialHash::build(Workers* workers) {
     wideRuns_.clear();
@@ -116,25 +125,40 @@ void SpatialHash::build(Workers* workers) {
         std::vector<uint32_t>& touched = touchedBy_[part];
         touched.clear();
         if (parts == 1) {
-            for (size_t n = 0; n < staged_.size(); ++n) count(n, touched);
+            for (size_t n = 0; n < staged_.size(); ++n) {
+                if (n + kPrefetchAhead < staged_.size())
+                    __builtin_prefetch(&buckets_[bucketOf_[n + kPrefetchAhead]]);
+                count(n, touched);
+            }
             return;
         }
-        for (size_t range = 0; range < parts; ++range)
-            for (const uint32_t n : inPart_[range * parts + part]) count(n, touched);
+        for (size_t range = 0; range < parts; ++range) {
+            const std::vector<uint32_t>& mine = inPart_[range * parts + part];
+            for (size_t m = 0; m < mine.size(); ++m) {
+                if (m + kPrefetchAhead < mine.size())
+                    __builtin_prefetch(&buckets_[bucketOf_[mine[m + kPrefetchAhead]]]);
+                count(mine[m], touched);
+            }
+        }
     });
     // Offsets over the touched buckets only, part by part, in the order first touched.
     uint32_t offset = 0;
     for (const std::vector<uint32_t>& touched : touchedBy_)
-        for (uint32_t h : touched) {
-            buckets_[h].start = offset;
-            offset += buckets_[h].count;
+        for (size_t t = 0; t < touched.size(); ++t) {
+            if (t + kPrefetchAhead < touched.size())
+                __builtin_prefetch(&buckets_[touched[t + kPrefetchAhead]]);
+            Bucket& b = buckets_[touched[t]];
+            b.start = offset;
+            offset += b.count;
         }
     // Pass 2: place, keeping the staged order within each bucket.
     entries_.resize(staged_.size());
-    probes_.resize(staged_.size());
+    probes_.resize(staged_.size() + kProbePadding);
     forParts([&](size_t part) {
         const size_t n0 = staged_.size() * part / parts, n1 = staged_.size() * (part + 1) / parts;
         for (size_t n = n0; n < n1; ++n) {
+            if (n + kPrefetchAhead < n1)
+                __builtin_prefetch(&buckets_[bucketOf_[n + kPrefetchAhead]]);
             const Entry& e = staged_[n];
             const uint32_t at = buckets_[bucketOf_[n]].start + slotOf_[n];
             entries_[at] = e;

@@ -136,28 +136,139 @@ public:
     /// (and a little more than rounding can shift a bound).
     template <class F>
     void forEachNear(const Aabb& within, uint32_t skipOwner, F&& f) const {
-        // Pad: a few float roundings of the coordinates, so that a cube meeting `within` always
-        // has its shrunk cube overlap the visited cells.
-        auto pad = [&](float v) { return allowance_ > 0 ? allowance_ + 1e-6f * std::abs(v) : 0; };
-        const Aabb range{within.lo - Vec3{pad(within.lo.x), pad(within.lo.y), pad(within.lo.z)},
-                         within.hi + Vec3{pad(within.hi.x), pad(within.hi.y), pad(within.hi.z)}};
-        const int32_t i0 = cell(range.lo.x), j0 = cell(range.lo.y), k0 = cell(range.lo.z);
+        const Aabb range = padded(within);
+        const int32_t r[6] = {cell(range.lo.x), cell(range.hi.x), cell(range.lo.y),
+                              cell(range.hi.y), cell(range.lo.z), cell(range.hi.z)};
         for (const WideRun& run : wideRuns_) {
             if (run.owner == skipOwner || !run.bounds.overlaps(within)) continue;
             for (uint32_t n = run.start; n < run.end; ++n)
                 if (cubeMeets(wide_[n].position, reach_[run.owner], within)) f(wide_[n]);
         }
-        forEachInRange(i0, cell(range.hi.x), j0, cell(range.hi.y), k0, cell(range.hi.z), skipOwner,
-                       within, [&](const Entry& e) {
-                           // Stored in several cells: report from the first cell of the shrunk
-                           // cube's overlap with the range along each axis.
-                           const float x = extent_[e.owner];
-                           if (x > 0 && (std::max(cell(e.position.x - x), i0) != e.i ||
-                                         std::max(cell(e.position.y - x), j0) != e.j ||
-                                         std::max(cell(e.position.z - x), k0) != e.k))
-                               return;
-                           f(e);
-                       });
+        forEachInBox(within, r, skipOwner, f);
+    }
+
+    /// What forEachNearAll keeps between calls (one per thread).
+    struct GroupScratch {
+        std::vector<int32_t> range;      ///< per query: i0, i1, j0, j1, k0, k1 of its cells
+        std::vector<uint32_t> cellStart; ///< per cell of the group's block: its queries (CSR)
+        std::vector<uint32_t> cellQueries;
+        std::vector<uint32_t> live; ///< the block's cells with any query, in order
+    };
+
+    /// The largest block of cells forEachNearAll groups its queries in; past it, it queries them
+    /// one by one.
+    static constexpr int64_t kMaxGroupCells = 1 << 15;
+
+    /// forEachNear(within[q], skipOwner, ...) for every q, calling f(q, entry) for each item
+    /// reported, the same (q, entry) pairs, in another order: each cell that several queries
+    /// visit (neighbouring boxes of one body overlap) is looked up and its entries read once
+    /// for all of them, query after query while they stay in the cache.
+    template <class F>
+    void forEachNearAll(std::span<const Aabb> within, uint32_t skipOwner, GroupScratch& g,
+                        F&& f) const {
+        const size_t queries = within.size();
+        if (queries == 0) return;
+        g.range.resize(queries * 6);
+        int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX},
+                hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+        for (size_t q = 0; q < queries; ++q) {
+            const Aabb range = padded(within[q]);
+            int32_t* r = &g.range[q * 6];
+            for (int a = 0; a < 3; ++a) {
+                r[2 * a] = cell(range.lo[a]), r[2 * a + 1] = cell(range.hi[a]);
+                lo[a] = std::min(lo[a], r[2 * a]), hi[a] = std::max(hi[a], r[2 * a + 1]);
+            }
+            for (const WideRun& run : wideRuns_) {
+                if (run.owner == skipOwner || !run.bounds.overlaps(within[q])) continue;
+                for (uint32_t n = run.start; n < run.end; ++n)
+                    if (cubeMeets(wide_[n].position, reach_[run.owner], within[q]))
+                        f(uint32_t(q), wide_[n]);
+            }
+        }
+        const int64_t ni = int64_t(hi[0]) - lo[0] + 1, nj = int64_t(hi[1]) - lo[1] + 1,
+                      nk = int64_t(hi[2]) - lo[2] + 1;
+        if (ni * nj * nk > kMaxGroupCells) {
+            for (size_t q = 0; q < queries; ++q)
+                forEachInBox(within[q], &g.range[q * 6], skipOwner,
+                             [&](const Entry& e) { f(uint32_t(q), e); });
+            return;
+        }
+        // The queries of each cell of the block, by counting sort (CSR), in query order.
+        const size_t cells = size_t(ni * nj * nk);
+        auto at = [&](int32_t i, int32_t j, int32_t k) {
+            return size_t((int64_t(k - lo[2]) * nj + (j - lo[1])) * ni + (i - lo[0]));
+        };
+        g.cellStart.assign(cells + 1, 0);
+        auto forCells = [&](const int32_t* r, auto&& fn) {
+            for (int32_t k = r[4]; k <= r[5]; ++k)
+                for (int32_t j = r[2]; j <= r[3]; ++j)
+                    for (int32_t i = r[0]; i <= r[1]; ++i) fn(at(i, j, k));
+        };
+        for (size_t q = 0; q < queries; ++q)
+            forCells(&g.range[q * 6], [&](size_t c) { ++g.cellStart[c + 1]; });
+        g.live.clear();
+        for (size_t c = 0; c < cells; ++c) {
+            if (g.cellStart[c + 1]) g.live.push_back(uint32_t(c));
+            g.cellStart[c + 1] += g.cellStart[c];
+        }
+        g.cellQueries.resize(g.cellStart[cells]);
+        for (size_t q = 0; q < queries; ++q)
+            forCells(&g.range[q * 6],
+                     [&](size_t c) { g.cellQueries[g.cellStart[c]++] = uint32_t(q); });
+        for (size_t c = cells; c > 0; --c) g.cellStart[c] = g.cellStart[c - 1];
+        g.cellStart[0] = 0;
+        // The live cells in batches: their buckets looked up (and prefetched) before any is read.
+        constexpr int kBatch = 32;
+        uint32_t hs[kBatch];
+        int32_t cs[kBatch][3];
+        size_t cellOf[kBatch];
+        int n = 0;
+        uint32_t liveFirst[kBatch], liveEnd[kBatch];
+        int liveCell[kBatch];
+        auto flush = [&] {
+            // The buckets that hold anything of interest, their probes and entries prefetched
+            // before the first is scanned.
+            int lives = 0;
+            for (int m = 0; m < n; ++m) {
+                const Bucket& b = buckets_[hs[m]];
+                if (b.stamp != stamp_) continue;
+                uint32_t first, end;
+                b.unskipped(skipOwner, first, end);
+                if (end <= first) continue;
+                __builtin_prefetch(probes_.data() + first);
+                __builtin_prefetch(entries_.data() + first);
+                liveFirst[lives] = first;
+                liveEnd[lives] = end;
+                liveCell[lives++] = m;
+            }
+            for (int l = 0; l < lives; ++l) {
+                const int m = liveCell[l];
+                const uint32_t first = liveFirst[l], end = liveEnd[l];
+                const int32_t* c = cs[m];
+                for (uint32_t k = g.cellStart[cellOf[m]]; k < g.cellStart[cellOf[m] + 1]; ++k) {
+                    const uint32_t q = g.cellQueries[k];
+                    const int32_t* r = &g.range[q * 6];
+                    scanProbes(first, end, within[q], [&](uint32_t e) {
+                        const Entry& en = entries_[e];
+                        if (en.owner != skipOwner && en.i == c[0] && en.j == c[1] && en.k == c[2] &&
+                            reportsFrom(en, r))
+                            f(q, en);
+                    });
+                }
+            }
+            n = 0;
+        };
+        for (const uint32_t c : g.live) {
+            const int32_t i = lo[0] + int32_t(c % size_t(ni));
+            const int32_t j = lo[1] + int32_t(c / size_t(ni) % size_t(nj));
+            const int32_t k = lo[2] + int32_t(c / size_t(ni * nj));
+            hs[n] = bucket(i, j, k);
+            __builtin_prefetch(&buckets_[hs[n]]);
+            cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
+            cellOf[n] = c;
+            if (++n == kBatch) flush();
+        }
+        flush();
     }
 
     /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. That
@@ -184,10 +295,6 @@ public:
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, const Aabb& within, F&& f) const {
-        // cubeMeets(position, reach, within) on a probe: the same sums and comparisons, four
-        // lanes at once (the fourth always passes).
-        const F4 lo{within.lo.x, within.lo.y, within.lo.z, -INFINITY};
-        const F4 hi{within.hi.x, within.hi.y, within.hi.z, INFINITY};
         constexpr int kBatch = 32;
         uint32_t hs[kBatch];
         int32_t cs[kBatch][3];
@@ -205,17 +312,17 @@ public:
                 b.unskipped(skipOwner, first, end);
                 if (end <= first) continue;
                 __builtin_prefetch(probes_.data() + first);
+                __builtin_prefetch(entries_.data() + first);
                 liveFirst[lives] = first;
                 liveEnd[lives] = end;
                 liveCell[lives++] = m;
             }
             for (int l = 0; l < lives; ++l) {
                 const int32_t* c = cs[liveCell[l]];
-                for (uint32_t q = liveFirst[l]; q < liveEnd[l]; ++q) {
-                    if (!probes_[q].meets(lo, hi)) continue;
+                scanProbes(liveFirst[l], liveEnd[l], within, [&](uint32_t q) {
                     const Entry& e = entries_[q];
                     if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2]) f(e);
-                }
+                });
             }
             n = 0;
         };
@@ -287,22 +394,65 @@ private:
         }
     };
 
+    /// `within` grown by the allowance and a few float roundings of its coordinates, so that a
+    /// cube meeting `within` always has its shrunk cube overlap the cells of the result.
+    Aabb padded(const Aabb& within) const {
+        auto pad = [&](float v) { return allowance_ > 0 ? allowance_ + 1e-6f * std::abs(v) : 0; };
+        return {within.lo - Vec3{pad(within.lo.x), pad(within.lo.y), pad(within.lo.z)},
+                within.hi + Vec3{pad(within.hi.x), pad(within.hi.y), pad(within.hi.z)}};
+    }
+
+    /// Whether a query over cells r (i0, i1, j0, j1, k0, k1) reports entry e from e's cell: an
+    /// item stored in several cells is reported from the first cell of its shrunk cube's
+    /// overlap with the query's cells along each axis.
+    bool reportsFrom(const Entry& e, const int32_t* r) const {
+        const float x = extent_[e.owner];
+        return !(x > 0) || (std::max(cell(e.position.x - x), r[0]) == e.i &&
+                            std::max(cell(e.position.y - x), r[2]) == e.j &&
+                            std::max(cell(e.position.z - x), r[4]) == e.k);
+    }
+
+    /// forEachNear's table part: the entries of cells r (i0, i1, j0, j1, k0, k1) whose cubes
+    /// meet `within`, each once.
+    template <class F>
+    void forEachInBox(const Aabb& within, const int32_t* r, uint32_t skipOwner, F&& f) const {
+        forEachInRange(r[0], r[1], r[2], r[3], r[4], r[5], skipOwner, within, [&](const Entry& e) {
+            if (reportsFrom(e, r)) f(e);
+        });
+    }
+
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
         return fastMod(cellHash(i, j, k), modMagic_, tableSize_);
     }
 
     /// An entry's position and its owner's reach, beside entries_ (the same index): what a
-    /// range query reads of every entry it scans, half an entry's bytes, tested in one go.
+    /// range query reads of every entry it scans, half an entry's bytes.
     struct alignas(16) Probe {
         float x, y, z, reach;
-        /// cubeMeets({x, y, z}, reach, [lo, hi]), lanes 0-2 of lo and hi.
-        bool meets(F4 lo, F4 hi) const {
-            const F4 p = load4(&x);
-            const F4 r = __builtin_shufflevector(p, p, 3, 3, 3, 3);
-            const I4 in = (p + r >= lo) & (p - r <= hi);
-            return (in[0] & in[1] & in[2] & in[3]) != 0;
-        }
     };
+    /// Probes past the last entry, so that a scan reads four at a time (scanProbes).
+    static constexpr size_t kProbePadding = 3;
+
+    /// Calls g(n) for each entry n of [first, end), in order, whose probe's cube meets `within`
+    /// (cubeMeets: the same sums and comparisons), four probes at a time.
+    template <class G>
+    void scanProbes(uint32_t first, uint32_t end, const Aabb& within, G&& g) const {
+        const F4 lx = splat(within.lo.x), ly = splat(within.lo.y), lz = splat(within.lo.z);
+        const F4 hx = splat(within.hi.x), hy = splat(within.hi.y), hz = splat(within.hi.z);
+        for (uint32_t n = first; n < end; n += 4) {
+            F4 x = load4(&probes_[n].x), y = load4(&probes_[n + 1].x), z = load4(&probes_[n + 2].x),
+               r = load4(&probes_[n + 3].x);
+            transpose(x, y, z, r); // each now one coordinate (or the reach) of the four probes
+            const I4 in = (x + r >= lx) & (x - r <= hx) & (y + r >= ly) & (y - r <= hy) &
+                          (z + r >= lz) & (z - r <= hz);
+            uint32_t mask = uint32_t((in[0] & 1) | (in[1] & 2) | (in[2] & 4) | (in[3] & 8));
+            if (end - n < 4) mask &= (1u << (end - n)) - 1;
+            while (mask) {
+                g(n + uint32_t(__builtin_ctz(mask)));
+                mask &= mask - 1;
+            }
+        }
+    }
 
     std::vector<Bucket> buckets_;
     std::vector<Entry> staged_, entries_;

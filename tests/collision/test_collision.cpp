@@ -429,6 +429,76 @@ TEST(SpatialHash, ReachCubesAreFoundExactlyOnce) {
     }
 }
 
+// Queries made together (forEachNearAll, as a body's boxes query the table) report exactly the
+// (query, item) pairs that the same queries made one at a time do: items of every reach (one
+// cell, several, kept apart), several owners to skip, queries close together (one block of
+// cells, shared) and far apart (a block past kMaxGroupCells: one at a time).
+TEST(SpatialHash, QueriesMadeTogetherFindWhatEachFindsAlone) {
+    std::mt19937 rng(57);
+    std::uniform_real_distribution<float> u(-3, 3), r(0, 0.6f), spread(-0.8f, 0.8f);
+    const std::vector<float> reach = {0.0f, 0.05f, 0.3f, 0.9f, 2.5f};
+    for (float allowance : {0.0f, 0.25f}) {
+        detail::SpatialHash hash;
+        hash.begin(600, 0.25f, reach, allowance);
+        std::vector<Vec3> points(600);
+        for (uint32_t i = 0; i < points.size(); ++i) {
+            points[i] = {u(rng), u(rng), u(rng)};
+            hash.add(i, (i / 7) % 5, points[i]); // owners in runs, as bodies add their nodes
+        }
+        hash.reserveTable(hash.stagedCount());
+        hash.build();
+        ASSERT_GT(hash.wideCount(), 0u);
+        detail::SpatialHash::GroupScratch scratch;
+        size_t found = 0;
+        for (int group = 0; group < 80; ++group) {
+            const bool far = group % 4 == 3;
+            const Vec3 centre{u(rng), u(rng), u(rng)};
+            std::vector<Aabb> within(1 + group % 9);
+            for (Aabb& a : within) {
+                const Vec3 c = far ? Vec3{u(rng), u(rng), u(rng)} * 40.0f
+                                   : centre + Vec3{spread(rng), spread(rng), spread(rng)};
+                const Vec3 h{r(rng), r(rng), r(rng)};
+                a = {c - h, c + h};
+            }
+            const uint32_t skip = uint32_t(group % 6); // 5: no owner skipped
+            const uint32_t skipOwner = skip == 5 ? detail::SpatialHash::kNoOwner : skip;
+            std::multiset<std::pair<uint32_t, uint32_t>> alone, together;
+            for (uint32_t q = 0; q < within.size(); ++q)
+                hash.forEachNear(within[q], skipOwner, [&](const detail::SpatialHash::Entry& e) {
+                    alone.insert({q, e.item});
+                });
+            hash.forEachNearAll(within, skipOwner, scratch,
+                                [&](uint32_t q, const detail::SpatialHash::Entry& e) {
+                                    together.insert({q, e.item});
+                                });
+            ASSERT_EQ(together, alone) << "group " << group << " allowance " << allowance;
+            found += alone.size();
+        }
+        EXPECT_GT(found, 1000u);
+    }
+}
+
+// The box pairs' keys sorted by radix come out as std::sort puts them, for few keys and many,
+// for box counts that need a few bits and many (halves packed into up to 64 bits).
+TEST(BoxPairKeys, SortLikeStdSort) {
+    std::mt19937_64 rng(8);
+    std::vector<uint64_t> scratch;
+    for (uint32_t boxes : {2u, 300u, 5664u, 70000u, 0x80000000u})
+        for (size_t n : {size_t(0), size_t(10), size_t(255), size_t(256), size_t(20000)}) {
+            std::vector<uint64_t> keys(n);
+            for (uint64_t& k : keys) {
+                const uint64_t a = rng() % boxes, b = rng() % boxes;
+                k = std::min(a, b) << 32 | std::max(a, b);
+            }
+            if (n > 100) // repeats, as the queries find them
+                for (size_t i = 0; i < n / 2; ++i) keys[rng() % n] = keys[rng() % n];
+            std::vector<uint64_t> expected = keys;
+            std::sort(expected.begin(), expected.end());
+            detail::sortBoxPairKeys(keys, scratch, boxes);
+            ASSERT_EQ(keys, expected) << boxes << " boxes, " << n << " keys";
+        }
+}
+
 // The cells of a pile around the origin spread over the buckets as random keys would: a block of
 // 20 x 20 x 20 cells straddling the origin in a table of twice as many buckets fills 78.7 % as
 // many buckets as cells at random. The paper's hash (i 73856093 ^ j 19349663 ^ k 83492791)
