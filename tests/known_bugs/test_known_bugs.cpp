@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,37 @@ TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
             test::smallBall(), test::sphereAt({-0.3f, 0.9f, -0.3f - 0.01f * float(k)}));
         for (int f = 0; f < 600; ++f) world.step();
         EXPECT_FALSE(world.isAwake(dropped)) << "centre at " << world.centreOfMass(dropped).y;
+    }
+}
+
+// A ball 1 m across (the spheres scene's, restitution 0) dropped 1.2 m onto the floor, turned
+// eight ways at random, lands at 4.3-4.5 m/s (its centre's fall over a frame). Wanted: it
+// rebounds at about a tenth of that at most, 0.5 m/s (its centre's rise over a frame, after the
+// landing). Today it leaves the floor at 0.56-2.0 m/s. Traced on one rotation (1.9 m/s): over
+// the landing's 13 substeps the rigid impact phase gives it 7.3 m/s upward where 4.7 stop it,
+// because shape matching pulls the dented bottom back down at about 3 m/s while
+// the body already rises, and the phase reads that as an approach (docs/LIMITS.md, known
+// problem 3). The spheres scene's fastest rise after 2 s (2.05 m/s, object 75 at frame 121)
+// is this: a sphere landing on the floor at 4.8 m/s. The first failure ends it.
+TEST(KnownBugs, ABallDroppedWithRestitutionZeroDoesNotBounce) {
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+    for (int k = 0; k < 8; ++k) {
+        SCOPED_TRACE("rotation " + std::to_string(k));
+        World world;
+        BodySettings s = test::sphereAt({0, 0.55f + 1.2f, 0});
+        s.rotation = normalize(Quat{u(rng), u(rng), u(rng), u(rng)});
+        const BodyId b = world.addBody(test::ball(), s);
+        float previous = world.centreOfMass(b).y, fastestFall = 0, fastestRise = 0;
+        for (int f = 0; f < 150; ++f) {
+            world.step();
+            const float y = world.centreOfMass(b).y, speed = (y - previous) * 60.0f;
+            previous = y;
+            fastestFall = std::min(fastestFall, speed);
+            if (fastestFall < -3.0f) fastestRise = std::max(fastestRise, speed);
+        }
+        ASSERT_LT(fastestFall, -4.0f); // it landed as meant
+        ASSERT_LT(fastestRise, 0.5f);
     }
 }
 
