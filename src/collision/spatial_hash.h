@@ -217,35 +217,17 @@ public:
                      [&](size_t c) { g.cellQueries[g.cellStart[c]++] = uint32_t(q); });
         for (size_t c = cells; c > 0; --c) g.cellStart[c] = g.cellStart[c - 1];
         g.cellStart[0] = 0;
-        // The live cells in batches: their buckets looked up (and prefetched) before any is read.
-        constexpr int kBatch = 32;
-        uint32_t hs[kBatch];
-        int32_t cs[kBatch][3];
-        size_t cellOf[kBatch];
-        int n = 0;
-        uint32_t liveFirst[kBatch], liveEnd[kBatch];
-        int liveCell[kBatch];
-        auto flush = [&] {
-            // The buckets that hold anything of interest, their probes and entries prefetched
-            // before the first is scanned.
-            int lives = 0;
-            for (int m = 0; m < n; ++m) {
-                const Bucket& b = buckets_[hs[m]];
-                if (b.stamp != stamp_) continue;
-                uint32_t first, end;
-                b.unskipped(skipOwner, first, end);
-                if (end <= first) continue;
-                __builtin_prefetch(probes_.data() + first);
-                __builtin_prefetch(entries_.data() + first);
-                liveFirst[lives] = first;
-                liveEnd[lives] = end;
-                liveCell[lives++] = m;
-            }
-            for (int l = 0; l < lives; ++l) {
-                const int m = liveCell[l];
-                const uint32_t first = liveFirst[l], end = liveEnd[l];
-                const int32_t* c = cs[m];
-                for (uint32_t k = g.cellStart[cellOf[m]]; k < g.cellStart[cellOf[m] + 1]; ++k) {
+        // The block's live cells, each scanned once for all the queries that visit it.
+        forEachLiveCell(
+            skipOwner,
+            [&](auto&& emit) {
+                for (const uint32_t c : g.live)
+                    emit(lo[0] + int32_t(c % size_t(ni)),
+                         lo[1] + int32_t(c / size_t(ni) % size_t(nj)),
+                         lo[2] + int32_t(c / size_t(ni * nj)), c);
+            },
+            [&](const int32_t* c, size_t cell, uint32_t first, uint32_t end) {
+                for (uint32_t k = g.cellStart[cell]; k < g.cellStart[cell + 1]; ++k) {
                     const uint32_t q = g.cellQueries[k];
                     const int32_t* r = &g.range[q * 6];
                     scanProbes(first, end, within[q], [&](uint32_t e) {
@@ -255,20 +237,7 @@ public:
                             f(q, en);
                     });
                 }
-            }
-            n = 0;
-        };
-        for (const uint32_t c : g.live) {
-            const int32_t i = lo[0] + int32_t(c % size_t(ni));
-            const int32_t j = lo[1] + int32_t(c / size_t(ni) % size_t(nj));
-            const int32_t k = lo[2] + int32_t(c / size_t(ni * nj));
-            hs[n] = bucket(i, j, k);
-            __builtin_prefetch(&buckets_[hs[n]]);
-            cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
-            cellOf[n] = c;
-            if (++n == kBatch) flush();
-        }
-        flush();
+            });
     }
 
     /// Calls f(entry) for every item in grid cell (i,j,k) whose owner is not `skipOwner`. That
@@ -288,22 +257,43 @@ public:
     static constexpr uint32_t kNoOwner = UINT32_MAX;
 
     /// forEachInCell over every cell of a range, for the items whose cube meets `within`
-    /// (cubeMeets; an item stored in several cells of the range is passed from each). The
-    /// buckets are looked up (and prefetched) before any is read, then the entries of those
-    /// that matter, so their cache misses overlap instead of queueing; each entry's stored
-    /// position is checked before anything else of it is read.
+    /// (cubeMeets; an item stored in several cells of the range is passed from each), the cells
+    /// in batches (forEachLiveCell); each entry's stored position is checked before anything
+    /// else of it is read.
     template <class F>
     void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
                         uint32_t skipOwner, const Aabb& within, F&& f) const {
+        forEachLiveCell(
+            skipOwner,
+            [&](auto&& emit) {
+                for (int32_t k = k0; k <= k1; ++k)
+                    for (int32_t j = j0; j <= j1; ++j)
+                        for (int32_t i = i0; i <= i1; ++i) emit(i, j, k, 0);
+            },
+            [&](const int32_t* c, size_t, uint32_t first, uint32_t end) {
+                scanProbes(first, end, within, [&](uint32_t q) {
+                    const Entry& e = entries_[q];
+                    if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2]) f(e);
+                });
+            });
+    }
+
+    /// For each cell that `cells` names (cells(emit) calls emit(i, j, k, tag) for each, in
+    /// order) whose bucket holds entries of owners other than `skipOwner` at its ends,
+    /// visit(cell coordinates, tag, first, end) with the bucket's entries left when that owner's
+    /// runs are taken off. The cells go in batches: their buckets looked up (and prefetched)
+    /// before any is read, then the probes and entries of those that matter, so their cache
+    /// misses overlap instead of queueing.
+    template <class Cells, class Visit>
+    void forEachLiveCell(uint32_t skipOwner, Cells&& cells, Visit&& visit) const {
         constexpr int kBatch = 32;
         uint32_t hs[kBatch];
         int32_t cs[kBatch][3];
+        size_t tags[kBatch];
         int n = 0;
         uint32_t liveFirst[kBatch], liveEnd[kBatch];
         int liveCell[kBatch];
         auto flush = [&] {
-            // Second level: the buckets that hold anything of interest, their entries
-            // prefetched before the first is scanned.
             int lives = 0;
             for (int m = 0; m < n; ++m) {
                 const Bucket& b = buckets_[hs[m]];
@@ -317,23 +307,17 @@ public:
                 liveEnd[lives] = end;
                 liveCell[lives++] = m;
             }
-            for (int l = 0; l < lives; ++l) {
-                const int32_t* c = cs[liveCell[l]];
-                scanProbes(liveFirst[l], liveEnd[l], within, [&](uint32_t q) {
-                    const Entry& e = entries_[q];
-                    if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2]) f(e);
-                });
-            }
+            for (int l = 0; l < lives; ++l)
+                visit(cs[liveCell[l]], tags[liveCell[l]], liveFirst[l], liveEnd[l]);
             n = 0;
         };
-        for (int32_t k = k0; k <= k1; ++k)
-            for (int32_t j = j0; j <= j1; ++j)
-                for (int32_t i = i0; i <= i1; ++i) {
-                    hs[n] = bucket(i, j, k);
-                    __builtin_prefetch(&buckets_[hs[n]]);
-                    cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
-                    if (++n == kBatch) flush();
-                }
+        cells([&](int32_t i, int32_t j, int32_t k, size_t tag) {
+            hs[n] = bucket(i, j, k);
+            __builtin_prefetch(&buckets_[hs[n]]);
+            cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
+            tags[n] = tag;
+            if (++n == kBatch) flush();
+        });
         flush();
     }
 
