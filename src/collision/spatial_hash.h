@@ -139,11 +139,7 @@ public:
         const Aabb range = padded(within);
         const int32_t r[6] = {cell(range.lo.x), cell(range.hi.x), cell(range.lo.y),
                               cell(range.hi.y), cell(range.lo.z), cell(range.hi.z)};
-        for (const WideRun& run : wideRuns_) {
-            if (run.owner == skipOwner || !run.bounds.overlaps(within)) continue;
-            for (uint32_t n = run.start; n < run.end; ++n)
-                if (cubeMeets(wide_[n].position, reach_[run.owner], within)) f(wide_[n]);
-        }
+        forEachWide(within, skipOwner, f);
         forEachInBox(within, r, skipOwner, f);
     }
 
@@ -178,12 +174,7 @@ public:
                 r[2 * a] = cell(range.lo[a]), r[2 * a + 1] = cell(range.hi[a]);
                 lo[a] = std::min(lo[a], r[2 * a]), hi[a] = std::max(hi[a], r[2 * a + 1]);
             }
-            for (const WideRun& run : wideRuns_) {
-                if (run.owner == skipOwner || !run.bounds.overlaps(within[q])) continue;
-                for (uint32_t n = run.start; n < run.end; ++n)
-                    if (cubeMeets(wide_[n].position, reach_[run.owner], within[q]))
-                        f(uint32_t(q), wide_[n]);
-            }
+            forEachWide(within[q], skipOwner, [&](const Entry& e) { f(uint32_t(q), e); });
         }
         const int64_t ni = int64_t(hi[0]) - lo[0] + 1, nj = int64_t(hi[1]) - lo[1] + 1,
                       nk = int64_t(hi[2]) - lo[2] + 1;
@@ -229,13 +220,8 @@ public:
             [&](const int32_t* c, size_t cell, uint32_t first, uint32_t end) {
                 for (uint32_t k = g.cellStart[cell]; k < g.cellStart[cell + 1]; ++k) {
                     const uint32_t q = g.cellQueries[k];
-                    const int32_t* r = &g.range[q * 6];
-                    scanProbes(first, end, within[q], [&](uint32_t e) {
-                        const Entry& en = entries_[e];
-                        if (en.owner != skipOwner && en.i == c[0] && en.j == c[1] && en.k == c[2] &&
-                            reportsFrom(en, r))
-                            f(q, en);
-                    });
+                    scanCell(c, first, end, within[q], &g.range[q * 6], skipOwner,
+                             [&](const Entry& e) { f(q, e); });
                 }
             });
     }
@@ -255,71 +241,6 @@ public:
     }
 
     static constexpr uint32_t kNoOwner = UINT32_MAX;
-
-    /// forEachInCell over every cell of a range, for the items whose cube meets `within`
-    /// (cubeMeets; an item stored in several cells of the range is passed from each), the cells
-    /// in batches (forEachLiveCell); each entry's stored position is checked before anything
-    /// else of it is read.
-    template <class F>
-    void forEachInRange(int32_t i0, int32_t i1, int32_t j0, int32_t j1, int32_t k0, int32_t k1,
-                        uint32_t skipOwner, const Aabb& within, F&& f) const {
-        forEachLiveCell(
-            skipOwner,
-            [&](auto&& emit) {
-                for (int32_t k = k0; k <= k1; ++k)
-                    for (int32_t j = j0; j <= j1; ++j)
-                        for (int32_t i = i0; i <= i1; ++i) emit(i, j, k, 0);
-            },
-            [&](const int32_t* c, size_t, uint32_t first, uint32_t end) {
-                scanProbes(first, end, within, [&](uint32_t q) {
-                    const Entry& e = entries_[q];
-                    if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2]) f(e);
-                });
-            });
-    }
-
-    /// For each cell that `cells` names (cells(emit) calls emit(i, j, k, tag) for each, in
-    /// order) whose bucket holds entries of owners other than `skipOwner` at its ends,
-    /// visit(cell coordinates, tag, first, end) with the bucket's entries left when that owner's
-    /// runs are taken off. The cells go in batches: their buckets looked up (and prefetched)
-    /// before any is read, then the probes and entries of those that matter, so their cache
-    /// misses overlap instead of queueing.
-    template <class Cells, class Visit>
-    void forEachLiveCell(uint32_t skipOwner, Cells&& cells, Visit&& visit) const {
-        constexpr int kBatch = 32;
-        uint32_t hs[kBatch];
-        int32_t cs[kBatch][3];
-        size_t tags[kBatch];
-        int n = 0;
-        uint32_t liveFirst[kBatch], liveEnd[kBatch];
-        int liveCell[kBatch];
-        auto flush = [&] {
-            int lives = 0;
-            for (int m = 0; m < n; ++m) {
-                const Bucket& b = buckets_[hs[m]];
-                if (b.stamp != stamp_) continue;
-                uint32_t first, end;
-                b.unskipped(skipOwner, first, end);
-                if (end <= first) continue;
-                __builtin_prefetch(probes_.data() + first);
-                __builtin_prefetch(entries_.data() + first);
-                liveFirst[lives] = first;
-                liveEnd[lives] = end;
-                liveCell[lives++] = m;
-            }
-            for (int l = 0; l < lives; ++l)
-                visit(cs[liveCell[l]], tags[liveCell[l]], liveFirst[l], liveEnd[l]);
-            n = 0;
-        };
-        cells([&](int32_t i, int32_t j, int32_t k, size_t tag) {
-            hs[n] = bucket(i, j, k);
-            __builtin_prefetch(&buckets_[hs[n]]);
-            cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
-            tags[n] = tag;
-            if (++n == kBatch) flush();
-        });
-        flush();
-    }
 
     /// The hash of cell (i, j, k): each coordinate times an odd 64-bit constant, xor-ed, then
     /// one multiply-xorshift round (splitmix64's finaliser) so that every bit of the three
@@ -396,13 +317,90 @@ private:
                             std::max(cell(e.position.z - x), r[4]) == e.k);
     }
 
+    /// The wide items (kept apart) of owners other than `skipOwner` whose cubes meet `within`:
+    /// each owner's run is passed over when its cubes' bounds miss `within`.
+    template <class F>
+    void forEachWide(const Aabb& within, uint32_t skipOwner, F&& f) const {
+        for (const WideRun& run : wideRuns_) {
+            if (run.owner == skipOwner || !run.bounds.overlaps(within)) continue;
+            for (uint32_t n = run.start; n < run.end; ++n)
+                if (cubeMeets(wide_[n].position, reach_[run.owner], within)) f(wide_[n]);
+        }
+    }
+
+    /// The entries [first, end) of the bucket of cell c that a query over cells r (i0, i1, j0,
+    /// j1, k0, k1) with bounds `within` reports: in cell c (not another cell sharing the
+    /// bucket), of an owner other than `skipOwner`, their cubes meeting `within`, and reported
+    /// from this cell (reportsFrom). Each entry's stored position is checked before anything
+    /// else of it is read.
+    template <class F>
+    void scanCell(const int32_t* c, uint32_t first, uint32_t end, const Aabb& within,
+                  const int32_t* r, uint32_t skipOwner, F&& f) const {
+        scanProbes(first, end, within, [&](uint32_t n) {
+            const Entry& e = entries_[n];
+            if (e.owner != skipOwner && e.i == c[0] && e.j == c[1] && e.k == c[2] &&
+                reportsFrom(e, r))
+                f(e);
+        });
+    }
+
+    /// For each cell that `cells` names (cells(emit) calls emit(i, j, k, tag) for each, in
+    /// order) whose bucket holds entries of owners other than `skipOwner` at its ends,
+    /// visit(cell coordinates, tag, first, end) with the bucket's entries left when that owner's
+    /// runs are taken off. The cells go in batches: their buckets looked up (and prefetched)
+    /// before any is read, then the probes and entries of those that matter, so their cache
+    /// misses overlap instead of queueing.
+    template <class Cells, class Visit>
+    void forEachLiveCell(uint32_t skipOwner, Cells&& cells, Visit&& visit) const {
+        constexpr int kBatch = 32;
+        uint32_t hs[kBatch];
+        int32_t cs[kBatch][3];
+        size_t tags[kBatch];
+        int n = 0;
+        uint32_t liveFirst[kBatch], liveEnd[kBatch];
+        int liveCell[kBatch];
+        auto flush = [&] {
+            int lives = 0;
+            for (int m = 0; m < n; ++m) {
+                const Bucket& b = buckets_[hs[m]];
+                if (b.stamp != stamp_) continue;
+                uint32_t first, end;
+                b.unskipped(skipOwner, first, end);
+                if (end <= first) continue;
+                __builtin_prefetch(probes_.data() + first);
+                __builtin_prefetch(entries_.data() + first);
+                liveFirst[lives] = first;
+                liveEnd[lives] = end;
+                liveCell[lives++] = m;
+            }
+            for (int l = 0; l < lives; ++l)
+                visit(cs[liveCell[l]], tags[liveCell[l]], liveFirst[l], liveEnd[l]);
+            n = 0;
+        };
+        cells([&](int32_t i, int32_t j, int32_t k, size_t tag) {
+            hs[n] = bucket(i, j, k);
+            __builtin_prefetch(&buckets_[hs[n]]);
+            cs[n][0] = i, cs[n][1] = j, cs[n][2] = k;
+            tags[n] = tag;
+            if (++n == kBatch) flush();
+        });
+        flush();
+    }
+
     /// forEachNear's table part: the entries of cells r (i0, i1, j0, j1, k0, k1) whose cubes
-    /// meet `within`, each once.
+    /// meet `within`, each once, the cells in batches (forEachLiveCell).
     template <class F>
     void forEachInBox(const Aabb& within, const int32_t* r, uint32_t skipOwner, F&& f) const {
-        forEachInRange(r[0], r[1], r[2], r[3], r[4], r[5], skipOwner, within, [&](const Entry& e) {
-            if (reportsFrom(e, r)) f(e);
-        });
+        forEachLiveCell(
+            skipOwner,
+            [&](auto&& emit) {
+                for (int32_t k = r[4]; k <= r[5]; ++k)
+                    for (int32_t j = r[2]; j <= r[3]; ++j)
+                        for (int32_t i = r[0]; i <= r[1]; ++i) emit(i, j, k, 0);
+            },
+            [&](const int32_t* c, size_t, uint32_t first, uint32_t end) {
+                scanCell(c, first, end, within, r, skipOwner, f);
+            });
     }
 
     uint32_t bucket(int32_t i, int32_t j, int32_t k) const {
