@@ -46,8 +46,9 @@ TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
 // landing). Today it leaves the floor at 0.56-2.0 m/s. Traced on one rotation (1.9 m/s): over
 // the landing's 13 substeps the rigid impact phase gives it 7.3 m/s upward where 4.7 stop it,
 // because shape matching pulls the dented bottom back down at about 3 m/s while
-// the body already rises, and the phase reads that as an approach (docs/LIMITS.md, known
-// problem 3). The spheres scene's fastest rise after 2 s (2.05 m/s, object 75 at frame 121)
+// the body already rises, and the phase reads that as an approach; the same phase turns the
+// ball (up to 7 rad/s) by stopping its lattice's lowest box corners, and without that turn it
+// leaves at the separation bound, 1 m/s (docs/LIMITS.md, known problem 3). The spheres scene's fastest rise after 2 s (2.05 m/s, object 75 at frame 121)
 // is this: a sphere landing on the floor at 4.8 m/s. The first failure ends it.
 TEST(KnownBugs, ABallDroppedWithRestitutionZeroDoesNotBounce) {
     std::mt19937 rng(1);
