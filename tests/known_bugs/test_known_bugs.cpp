@@ -48,8 +48,9 @@ TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
 // because shape matching pulls the dented bottom back down at about 3 m/s while
 // the body already rises, and the phase reads that as an approach; the same phase turns the
 // ball (up to 7 rad/s) by stopping its lattice's lowest box corners, and without that turn it
-// leaves at the separation bound, 1 m/s (docs/LIMITS.md, known problem 3). The spheres scene's fastest rise after 2 s (2.05 m/s, object 75 at frame 121)
-// is this: a sphere landing on the floor at 4.8 m/s. The first failure ends it.
+// leaves at the separation bound, 1 m/s (docs/LIMITS.md, known problem 3). The spheres scene's
+// fastest rise after 2 s (2.05 m/s, object 75 at frame 121) is this: a sphere landing on the floor
+// at 4.8 m/s. The first failure ends it.
 TEST(KnownBugs, ABallDroppedWithRestitutionZeroDoesNotBounce) {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> u(-0.5f, 0.5f);
