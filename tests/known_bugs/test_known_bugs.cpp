@@ -43,14 +43,13 @@ TEST(KnownBugs, ABallWedgedAmongPegsComesToRest) {
 // A ball 1 m across (the spheres scene's, restitution 0) dropped 1.2 m onto the floor, turned
 // eight ways at random, lands at 4.3-4.5 m/s (its centre's fall over a frame). Wanted: it
 // rebounds at about a tenth of that at most, 0.5 m/s (its centre's rise over a frame, after the
-// landing). Today it leaves the floor at 0.56-2.0 m/s. Traced on one rotation (1.9 m/s): over
-// the landing's 13 substeps the rigid impact phase gives it 7.3 m/s upward where 4.7 stop it,
-// because shape matching pulls the dented bottom back down at about 3 m/s while
-// the body already rises, and the phase reads that as an approach; the same phase turns the
-// ball (up to 7 rad/s) by stopping its lattice's lowest box corners, and without that turn it
-// leaves at the separation bound, 1 m/s (docs/LIMITS.md, known problem 3). The spheres scene's
-// fastest rise after 2 s (2.05 m/s, object 75 at frame 121) is this: a sphere landing on the floor
-// at 4.8 m/s. The first failure ends it.
+// landing). Today it leaves the floor at 0.55-1.26 m/s (0.56-2.0 with the separation bound at
+// 1 m/s, before 2026-11-29). Traced on one rotation (1.9 m/s, bound 1 m/s): over the landing's
+// 13 substeps the rigid impact phase gives it 7.3 m/s upward where 4.7 stop it, because shape
+// matching pulls the dented bottom back down at about 3 m/s while the body already rises, and
+// the phase reads that as an approach; the same phase turns the ball (up to 7 rad/s) by
+// stopping its lattice's lowest box corners, and without that turn it leaves at the separation
+// bound exactly (docs/LIMITS.md, known problem 3). The first failure ends it.
 TEST(KnownBugs, ABallDroppedWithRestitutionZeroDoesNotBounce) {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> u(-0.5f, 0.5f);

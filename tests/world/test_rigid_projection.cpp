@@ -60,12 +60,14 @@ TEST(RigidProjection, IsOffByDefault) {
 }
 
 // The load of a body resting on a dynamic body reaches the lower body's whole lattice in the
-// substep it arrives: the upper box rests. With the particles alone it buzzes (the load passes
-// only by the next substeps' shape matching; docs/LIMITS.md, known problem 5). Measured:
-// 0.006 m/s with the projection, 0.11 m/s without.
+// substep it arrives: the upper box rests. With the particles alone it buzzed at 0.11 m/s
+// while the separation bound was 1 m/s (the rigid phase turning the dents the load makes into
+// rigid separation; docs/LIMITS.md, known problem 5); with the bound at 0.25 m/s, the default
+// since 2026-11-29, it rests nearly as well without the projection. Measured: 0.006 m/s with
+// the projection, 0.012 without.
 TEST(RigidProjection, ABoxOnADynamicBoxRests) {
     EXPECT_LT(stackBuzz(1.0f), 0.02);
-    EXPECT_GT(stackBuzz(0.0f), 0.05); // the buzz it removes (if this fails, update LIMITS)
+    EXPECT_LT(stackBuzz(0.0f), 0.03);
 }
 
 // A crate on a kinematic platform that sets off at 0.5 m/s: static friction at the rigid level
