@@ -98,7 +98,7 @@ def test_queries_and_contact_events():
     assert w.bodies_overlapping((-0.1, 1.2, -0.1), (0.1, 1.4, 0.1)) == [ball]
     assert not w.body_overlaps(ball, (5, 5, 5), (6, 6, 6))
     began = []
-    for _ in range(50):  # it lands at about frame 20 and sleeps (no more contacts) by frame 60
+    for _ in range(50):  # it touches the floor at frame 15 and falls asleep (no contacts) at 59
         w.step()
         began += w.contact_events()["begin"]
     assert (ball, None) in began
