@@ -112,10 +112,9 @@ suite release
 examples release
 python_package
 stage "short soaks: the four paper scenes, 600 frames each, default tolerances; no body rising faster than 2 m/s after 2 s, energy never 1 % of its scale over the start"
-build/release/bin/ffdaabb soak --scene spheres --frames 600 --launch-tolerance 2 --energy-tolerance 0.01
-build/release/bin/ffdaabb soak --scene alphabets --frames 600 --launch-tolerance 2 --energy-tolerance 0.01
-build/release/bin/ffdaabb soak --scene teapots --frames 600 --launch-tolerance 2 --energy-tolerance 0.01
-build/release/bin/ffdaabb soak --scene buddhas --frames 600 --launch-tolerance 2 --energy-tolerance 0.01
+for scene in spheres alphabets teapots buddhas; do
+  build/release/bin/ffdaabb soak --scene "$scene" --frames 600 --launch-tolerance 2 --energy-tolerance 0.01
+done
 suite asan
 suite tsan
 # Repeatable: a fixed seed and at most 100,000 inputs per target (about 40 s for mesh_load here),
