@@ -76,11 +76,11 @@ TEST(KnownBugs, ABallDroppedWithRestitutionZeroDoesNotBounce) {
 // with rotations from seed 1): the dense-pile issue asks them apart within 3 s. Wanted: no
 // vertex inside another sphere deeper than 1 cm (the mesh measure) after 3 s, for the rotations
 // of seeds 1-6. Today the last whole pairs, pushed apart by positions at the recovery speed, are
-// held back by their neighbours' contacts: the meshes are apart in 2.7-4.3 s over the six
-// (2026-11-29; docs/LIMITS.md, known problem 1). The slowest seeds go first, and the first failure
-// ends it.
+// held back by their neighbours' contacts: the meshes are apart in 4.3, 2.7, 3.5, 2.8, 3.3 and
+// 3.0 s for seeds 1-6 (2026-11-29; docs/LIMITS.md, known problem 1). The slowest seeds go first,
+// and the first failure ends it.
 TEST(KnownBugs, TwoHundredAtOneSpotApartInThreeSeconds) {
-    for (const unsigned seed : {6u, 5u, 3u, 4u, 2u, 1u}) {
+    for (const unsigned seed : {1u, 3u, 5u, 6u, 4u, 2u}) {
         SCOPED_TRACE("seed " + std::to_string(seed));
         World world;
         test::addBallsAtOneSpot(world, 200, {0, 0.6f, 0}, seed);
