@@ -134,8 +134,8 @@ struct WorldSettings {
     /// at a contact; 0: no bound. Particle velocity at a contact can be deformation (a dent being
     /// restored, a light body squeezed, bodies created overlapping): without the bound the phase
     /// turns it into rigid motion and throws such bodies from piles at tens of m/s. Lower bounds
-    /// let boxes settle deeper into each other (more contacts: the spheres' frame costs a
-    /// quarter more at 0.25 than at 1 m/s); higher ones let more throws and energy through
+    /// let boxes settle deeper into each other (more contacts: in the bench the spheres' frame
+    /// costs 17 % more at 0.25 than at 1 m/s); higher ones let more throws and energy through
     /// (docs/ALGORITHM.md, section 5, "Separation bound").
     float maxSeparationSpeed = 0.25f;
     /// Push-out bound (m/s); 0: none, overlap is projected out at once. When set (about 1),
