@@ -138,7 +138,8 @@ TEST(Colliders, ATiltedPlaneLetsABallRollDownAndNothingPassesThrough) {
         for (const Vec3& v : world.vertices(b)) deepest = std::max(deepest, -dot(n, v));
     }
     EXPECT_LT(deepest, 0.01f);                      // nothing through the plane (1 % of 1 m)
-    EXPECT_GT(world.centreOfMass(b).x, 1.0f);       // rolled down the slope (towards +x)
+    EXPECT_GT(world.centreOfMass(b).x, 1.0f);       // went down the slope (towards +x): it
+                                                    // slides more than it rolls (LIMITS, 8)
     EXPECT_LT(world.centreOfMass(b).y, -0.3f);      // and down
     EXPECT_LT(dot(n, world.centreOfMass(b)), 1.0f); // along the plane, not thrown off it
     EXPECT_TRUE(world.removePlane(plane));

@@ -229,7 +229,8 @@ TEST(Sleeping, OffNeverSleepsAndTurningItOffWakesEverybody) {
     EXPECT_TRUE(tilted.isAwake(t));
     const float x0 = tilted.centreOfMass(t).x;
     for (int f = 0; f < 60; ++f) tilted.step();
-    EXPECT_LT(tilted.centreOfMass(t).x, x0 - 0.1f); // it rolls the new way
+    // It goes the new way: it slides more than it rolls (docs/LIMITS.md, known problem 8).
+    EXPECT_LT(tilted.centreOfMass(t).x, x0 - 0.1f);
 }
 
 TEST(Sleeping, SleepingIsTheSameAtAnyThreadCount) {
