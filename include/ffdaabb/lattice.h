@@ -71,6 +71,12 @@ struct CellBox {
     }
 };
 
+/// A mesh vertex as one of its box's: the vertex and its local coordinates in the box's cell.
+struct BoxVertex {
+    uint32_t vertex = 0;
+    Vec3 local;
+};
+
 /// An immutable lattice with its embedding and cell boxes, built once per mesh and settings and
 /// shared by every body made from them.
 struct Lattice {
@@ -93,6 +99,11 @@ struct Lattice {
     std::vector<Embedding> vertices; ///< #V embedding of every mesh vertex
     std::vector<CellBox> boxes;      ///< #B one per surface cell, in cell order
     std::vector<uint32_t> cellBox;   ///< #C box index of each cell, UINT32_MAX for interior
+    /// The mesh vertices of each box, box by box: box k's are boxVertices[boxVertexStart[k],
+    /// boxVertexStart[k + 1]), in vertex order. Every vertex is its own cell's box's (that
+    /// box holds it: lattice.cpp adds every embedded vertex to its cell's box).
+    std::vector<uint32_t> boxVertexStart; ///< #B + 1
+    std::vector<BoxVertex> boxVertices;   ///< #V
 
     size_t cellCount() const { return cells.size(); }
     size_t particleCount() const { return restParticles.size(); }

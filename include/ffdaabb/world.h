@@ -161,6 +161,15 @@ struct WorldSettings {
     /// buzzing, and a body is carried by friction as a rigid one would be. Not yet the
     /// default: it changes how balls roll and land (docs/LIMITS.md, known problem 5).
     float rigidProjection = 0.0f;
+    /// Contacts with the floor and the plane colliders at the meshes' vertices (1) instead of
+    /// the cell boxes' corners (0, the paper's). On its boxes' corners a ball stands on a flat
+    /// patch, its lowest box's face, and slides down a slope instead of rolling; at the
+    /// vertices the contacts move over the body's surface as it turns. Each box near the plane
+    /// gives at most four vertices (the deepest, the one farthest from it, and the two spanning
+    /// the largest triangles with them), plus every other vertex whose motion over the substep
+    /// would take it more than a fifth of the contact skin below the plane. Experimental: not
+    /// yet the default (docs/ALGORITHM.md, section 5, "Floor contacts at the vertices").
+    int vertexFloorContacts = 0;
     /// Sleeping. A body whose particles' root-mean-square speed (its kinetic energy below
     /// M s^2 / 2) and whose particles' root-mean-square motion over each frame stay below this
     /// speed s (m/s) for sleepTime seconds falls asleep, together with every body it touches,

@@ -73,6 +73,7 @@ class WorldSettings:
     push_out_speed: float
     overlap_recovery_speed: float
     rigid_projection: float
+    vertex_floor_contacts: int
     sleep_speed: float
     sleep_time: float
     gravity: Vec3

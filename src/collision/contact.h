@@ -99,7 +99,7 @@ struct Contact {
     // Identification, for a canonical order and for tests.
     uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< dense body indices
     /// A's point: its box x 8 + its index in the box pair's manifold (object contacts), or its
-    /// node (floor contacts).
+    /// node (floor contacts), or its mesh vertex (floor contacts at vertices).
     uint32_t nodeA = 0;
     uint32_t boxB = UINT32_MAX; ///< world-wide box index on B
     // Solver state.
@@ -413,6 +413,17 @@ struct CollisionState {
     size_t objectCount = 0;
     /// Per body, where its floor or plane contacts start in `all` (findFloorContacts).
     std::vector<size_t> floorStart;
+    /// A mesh vertex near a plane (WorldSettings::vertexFloorContacts): its box (world-wide),
+    /// its local coordinates in the box's cell, the plane, where it is and where its velocity
+    /// takes it over the substep (signed distances to the plane).
+    struct PlaneVertex {
+        uint32_t box = 0, vertex = 0, plane = 0;
+        Vec3 local, position;
+        float distance = 0, ahead = 0;
+    };
+    /// Per body, its vertices chosen for plane contacts this substep (floor.cpp); per thread,
+    /// the vertices near a plane of the box at hand.
+    std::vector<std::vector<PlaneVertex>> planeVertices, planeVertexScratch;
     std::span<const Contact> objectContacts() const { return {all.data(), objectCount}; }
     std::span<const Contact> floorContacts() const {
         return {all.data() + objectCount, all.size() - objectCount};

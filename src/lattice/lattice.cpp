@@ -449,6 +449,21 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
         L.boxes.push_back(box);
     }
 
+    // Each box's vertices (counting sort by box, in vertex order).
+    L.boxVertexStart.assign(L.boxes.size() + 1, 0);
+    for (const Embedding& e : L.vertices)
+        if (L.cellBox[e.cell] != UINT32_MAX) ++L.boxVertexStart[L.cellBox[e.cell] + 1];
+    for (size_t k = 0; k < L.boxes.size(); ++k) L.boxVertexStart[k + 1] += L.boxVertexStart[k];
+    L.boxVertices.resize(L.boxVertexStart.back());
+    {
+        std::vector<uint32_t> at(L.boxVertexStart.begin(), L.boxVertexStart.end() - 1);
+        for (size_t v = 0; v < L.vertices.size(); ++v) {
+            const Embedding& e = L.vertices[v];
+            if (L.cellBox[e.cell] != UINT32_MAX)
+                L.boxVertices[at[L.cellBox[e.cell]]++] = {uint32_t(v), e.local};
+        }
+    }
+
     L.massFraction = massFractions(mesh, L, g, settings.fillInterior);
 
     stats.buildSeconds =

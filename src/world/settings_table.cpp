@@ -34,6 +34,8 @@ constexpr SettingRange kWorld[] = {
      "m/s", "bodies placed overlapping are pushed apart at most this fast (0: at once)"},
     {"rigidProjection", "rigid_projection", 0.0, 1.0, "0..1", false, "",
      "share of the bodies' rigid approach at a contact projected on their rigid modes (0: off)"},
+    {"vertexFloorContacts", "vertex_floor_contacts", 0, 1, "0 (box corners) or 1 (vertices)", true,
+     "", "contacts with the floor and plane colliders at the meshes' vertices (1)"},
     {"sleepSpeed", "sleep_speed", 0.0, 1e3, "0 (never sleep)..1e3 m/s", false, "m/s",
      "bodies quieter than this (rms particle speed) for sleep_time fall asleep (0: never)"},
     {"sleepTime", "sleep_time", 0.0, 1e6, "seconds, 0..1e6", false, "s",
@@ -45,8 +47,8 @@ const detail::SettingMember<W> kWorldMembers[] = {
     &W::solverIterations, &W::threads,
     &W::sweepThreshold,   &W::maxSeparationSpeed,
     &W::pushOutSpeed,     &W::overlapRecoverySpeed,
-    &W::rigidProjection,  &W::sleepSpeed,
-    &W::sleepTime,
+    &W::rigidProjection,  &W::vertexFloorContacts,
+    &W::sleepSpeed,       &W::sleepTime,
 };
 
 constexpr SettingRange kBody[] = {

@@ -118,6 +118,43 @@ TEST(Lattice, UndeformedLatticeReproducesEveryVertex) {
     }
 }
 
+// Each vertex is one box's, its own cell's, at its embedding's local coordinates: the floor's
+// contacts at the vertices (WorldSettings::vertexFloorContacts) read them box by box.
+TEST(Lattice, EveryVertexIsListedOnceUnderItsCellsBox) {
+    for (const TriangleMesh& mesh : testMeshes()) {
+        for (float resolution : {1.0f, 3.0f, 4.5f, 9.0f, 17.5f}) {
+            LatticeSettings s;
+            s.resolution = resolution;
+            const Lattice L = buildLattice(mesh, s);
+            SCOPED_TRACE(mesh.name + " resolution " + std::to_string(resolution));
+            ASSERT_EQ(L.boxVertexStart.size(), L.boxes.size() + 1);
+            ASSERT_EQ(L.boxVertexStart.front(), 0u);
+            ASSERT_EQ(L.boxVertexStart.back(), L.boxVertices.size());
+            ASSERT_EQ(L.boxVertices.size(), L.vertices.size());
+            std::vector<int> seen(L.vertices.size(), 0);
+            for (uint32_t k = 0; k < L.boxes.size(); ++k) {
+                ASSERT_LE(L.boxVertexStart[k], L.boxVertexStart[k + 1]);
+                for (uint32_t i = L.boxVertexStart[k]; i < L.boxVertexStart[k + 1]; ++i) {
+                    const BoxVertex& v = L.boxVertices[i];
+                    ASSERT_LT(v.vertex, L.vertices.size());
+                    if (i > L.boxVertexStart[k]) {
+                        ASSERT_LT(L.boxVertices[i - 1].vertex, v.vertex);
+                    }
+                    ++seen[v.vertex];
+                    EXPECT_EQ(L.cellBox[L.vertices[v.vertex].cell], k);
+                    EXPECT_EQ(v.local, L.vertices[v.vertex].local);
+                    const CellBox& box = L.boxes[k];
+                    for (int a = 0; a < 3; ++a) {
+                        EXPECT_GE(v.local[a], box.lo[a]);
+                        EXPECT_LE(v.local[a], box.hi[a]);
+                    }
+                }
+            }
+            for (size_t v = 0; v < seen.size(); ++v) ASSERT_EQ(seen[v], 1) << "vertex " << v;
+        }
+    }
+}
+
 TEST(Lattice, AffineMapOfParticlesMapsVerticesAndNodesAlike) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-1, 1);
