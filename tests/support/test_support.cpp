@@ -163,6 +163,30 @@ void addBallsAtOneSpot(World& world, int count, Vec3 centre, unsigned seed) {
     }
 }
 
+float lowestVertex(const World& world, BodyId body) {
+    float lowest = INFINITY;
+    for (const Vec3& v : world.vertices(body)) lowest = std::min(lowest, v.y);
+    return lowest;
+}
+
+Vec3 spinOf(const World& world, BodyId body) {
+    const std::span<const Vec3> x = world.particles(body), v = world.velocities(body);
+    const Vec3 c = world.centreOfMass(body), p = world.linearVelocity(body);
+    Mat3 inertia{};
+    Vec3 momentum{};
+    for (uint32_t i = 0; i < x.size(); ++i) {
+        const float m = world.particleMass(body, i);
+        const Vec3 r = x[i] - c;
+        momentum += cross(r, v[i] - p) * m;
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k)
+                inertia.m[j][k] += m * ((j == k ? dot(r, r) : 0.0f) - r[j] * r[k]);
+    }
+    Mat3 inverseInertia;
+    if (!inverse(inertia, inverseInertia)) return {};
+    return inverseInertia * momentum;
+}
+
 double deepestInside(const World& world, float referenceSize) {
     std::vector<bench::MeshView> views;
     for (BodyId id : world.bodies()) views.push_back({world.vertices(id), world.triangles(id)});

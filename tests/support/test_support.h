@@ -126,6 +126,13 @@ double deepestInside(const World& world, float referenceSize = 1.0f);
 /// The largest linear velocity of any body, m/s.
 float fastestBody(const World& world);
 
+/// The height of a body's lowest mesh vertex (the deformed mesh), m.
+float lowestVertex(const World& world, BodyId body);
+
+/// A body's spin about its centre of mass, rad/s: the angular velocity that fits its particles'
+/// velocities about their mean best (least squares, mass-weighted).
+Vec3 spinOf(const World& world, BodyId body);
+
 /// The least distance between two bodies' centres of mass, m (infinity with fewer than two).
 float closestCentres(const World& world);
 

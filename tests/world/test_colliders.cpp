@@ -18,6 +18,7 @@ using namespace ffd;
 using ffd::test::ball;
 using ffd::test::collider;
 using ffd::test::deepestInside;
+using ffd::test::lowestVertex;
 using ffd::test::smallBall;
 using ffd::test::sphereAt;
 
@@ -25,12 +26,6 @@ namespace {
 
 std::vector<Vec3> particlesOf(const World& world, BodyId b) {
     return {world.particles(b).begin(), world.particles(b).end()};
-}
-
-float lowestVertexY(const World& world, BodyId b) {
-    float lo = INFINITY;
-    for (const Vec3& v : world.vertices(b)) lo = std::min(lo, v.y);
-    return lo;
 }
 
 } // namespace
@@ -48,7 +43,7 @@ TEST(Colliders, AStaticBoxHoldsABallAndNeverMoves) {
     }
     EXPECT_EQ(particlesOf(world, slab), before); // bit-identical: contacts never move it
     // At rest on the slab's top (y = 0.75): the ball's bottom there, not sunk in.
-    EXPECT_NEAR(lowestVertexY(world, b), 0.75f, 0.03f);
+    EXPECT_NEAR(lowestVertex(world, b), 0.75f, 0.03f);
     EXPECT_LT(deepest, 0.01); // 1 % of the ball's size, over the whole fall
     EXPECT_LT(length(world.linearVelocity(b)), 0.05f);
     for (const Vec3& v : world.velocities(slab)) EXPECT_EQ(v, Vec3{});
@@ -206,7 +201,7 @@ TEST(Colliders, BallsOnStaticStairsRestOnTheStepsNoneInside) {
         for (const Vec3& v : world.velocities(s)) EXPECT_EQ(v, Vec3{});
     // Each ball rests on the top of a step (0.25, 0.5 or 0.75) or on the floor, its bottom there.
     for (const BodyId b : balls) {
-        const float bottom = lowestVertexY(world, b);
+        const float bottom = lowestVertex(world, b);
         float nearest = std::abs(bottom);
         for (int k = 0; k < 3; ++k)
             nearest = std::min(nearest, std::abs(bottom - 0.25f * float(k + 1)));
@@ -303,7 +298,7 @@ TEST(Colliders, BallsPouredOnAFieldOfPegsSettleNoneInsideNoneThrough) {
     // on the floor between them, and one wedged between pegs above the floor may jitter at up to
     // 0.3 m/s: tests/known_bugs ABallWedgedAmongPegsComesToRest).
     for (const BodyId b : balls) {
-        EXPECT_GT(lowestVertexY(world, b), -0.005f);
+        EXPECT_GT(lowestVertex(world, b), -0.005f);
         EXPECT_LT(length(world.linearVelocity(b)), 0.5f);
         EXPECT_LT(world.centreOfMass(b).y, 0.6f + 0.3f);
     }

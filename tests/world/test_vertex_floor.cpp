@@ -18,6 +18,7 @@
 
 using namespace ffd;
 using ffd::test::ball;
+using ffd::test::lowestVertex;
 using ffd::test::sphereAt;
 
 namespace {
@@ -27,32 +28,6 @@ WorldSettings atVertices(bool on = true) {
     s.vertexFloorContacts = on ? 1 : 0;
     s.sleepSpeed = 0; // watched awake
     return s;
-}
-
-float lowestVertex(const World& world, BodyId id) {
-    float lowest = INFINITY;
-    for (const Vec3& v : world.vertices(id)) lowest = std::min(lowest, v.y);
-    return lowest;
-}
-
-// The ball's mean velocity and its spin about its centre (least squares over its particles).
-void motionOf(const World& world, BodyId b, Vec3& velocity, Vec3& spin) {
-    const std::span<const Vec3> x = world.particles(b), v = world.velocities(b);
-    const Vec3 c = world.centreOfMass(b);
-    velocity = world.linearVelocity(b);
-    Mat3 I{};
-    Vec3 L{};
-    for (uint32_t i = 0; i < x.size(); ++i) {
-        const float mi = world.particleMass(b, i);
-        const Vec3 r = x[i] - c;
-        L += cross(r, v[i] - velocity) * mi;
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k)
-                I.m[j][k] += mi * ((j == k ? dot(r, r) : 0.0f) - r[j] * r[k]);
-    }
-    Mat3 inverseI;
-    ASSERT_TRUE(inverse(I, inverseI));
-    spin = inverseI * L;
 }
 
 } // namespace
@@ -104,8 +79,7 @@ TEST(VertexFloorContacts, ABallRollsDownASlope) {
             world.setSettings(tilted);
         }
         for (int f = 0; f < 60; ++f) world.step();
-        Vec3 velocity, spin;
-        motionOf(world, b, velocity, spin);
+        const Vec3 velocity = world.linearVelocity(b), spin = test::spinOf(world, b);
         const float speed = length(velocity), rolling = length(spin) * 0.5f;
         EXPECT_GT(speed, 1.0f);
         EXPECT_GT(rolling, 0.6f * speed) << "speed " << speed << " m/s";
