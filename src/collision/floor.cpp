@@ -63,7 +63,7 @@ constexpr float kVertexSlop = 0.2f;
 // Of one box's vertices near a plane (`near`, in vertex order), those that get contacts,
 // appended to `out` in the same order: all of them when four or fewer; else the deepest, the
 // one farthest from it, the two that span the largest triangles with those two on either side
-// (as a box pair's manifold is reduced, object_contacts.cpp), and every other vertex that its
+// (pickFour, as a box pair's manifold is reduced), and every other vertex that its
 // velocity would take more than `slop` below the plane within the substep. The four hold the
 // box's part of the surface where it lies on the plane, and move over the surface as the body
 // turns; the others are left to them while the body moves as they do, and get contacts of
@@ -76,25 +76,10 @@ void reduceBoxVertices(std::span<const CollisionState::PlaneVertex> near, Vec3 n
         out.insert(out.end(), near.begin(), near.end());
         return;
     }
-    size_t deepest = 0;
-    for (size_t m = 1; m < n; ++m)
-        if (near[m].distance < near[deepest].distance) deepest = m;
-    size_t farthest = deepest;
-    float far = 0;
-    for (size_t m = 0; m < n; ++m) {
-        const float d = lengthSquared(near[m].position - near[deepest].position);
-        if (d > far) far = d, farthest = m;
-    }
-    size_t left = deepest, right = deepest;
-    float most = 0, least = 0;
-    const Vec3 a = near[deepest].position, edge = near[farthest].position - a;
-    for (size_t m = 0; m < n; ++m) {
-        const float area = dot(cross(edge, near[m].position - a), normal);
-        if (area > most) most = area, left = m;
-        if (area < least) least = area, right = m;
-    }
+    int pick[4];
+    pickFour(near.data(), int(n), normal, pick);
     for (size_t m = 0; m < n; ++m)
-        if (m == deepest || m == farthest || m == left || m == right || near[m].ahead < -slop)
+        if (std::find(pick, pick + 4, int(m)) != pick + 4 || near[m].ahead < -slop)
             out.push_back(near[m]);
 }
 

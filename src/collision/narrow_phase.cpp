@@ -150,23 +150,8 @@ void leastSeparations(const BoxPlanes& planes, const Vec3* nodes, float out[8]) 
 
 // The manifold's four points out of `kept` found ones on normal n.
 void reduceToFour(const ManifoldPoint* found, int kept, Vec3 n, BoxPairManifold& m) {
-    // Four points: the deepest, the farthest from it, and the two that span the largest
-    // triangles with those on either side.
-    int pick[4] = {0, -1, -1, -1};
-    for (int k = 1; k < kept; ++k)
-        if (found[k].distance < found[pick[0]].distance) pick[0] = k;
-    float far = -1;
-    for (int k = 0; k < kept; ++k) {
-        const float d2 = lengthSquared(found[k].position - found[pick[0]].position);
-        if (d2 > far) far = d2, pick[1] = k;
-    }
-    float most = 0, least = 0;
-    const Vec3 a = found[pick[0]].position, b = found[pick[1]].position;
-    for (int k = 0; k < kept; ++k) {
-        const float area = dot(cross(b - a, found[k].position - a), n);
-        if (area > most) most = area, pick[2] = k;
-        if (area < least) least = area, pick[3] = k;
-    }
+    int pick[4];
+    pickFour(found, kept, n, pick);
     for (int k : pick)
         if (k >= 0) m.point[m.count++] = found[k];
 }

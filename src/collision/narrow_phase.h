@@ -114,6 +114,30 @@ struct BoxPairManifold {
     float depthBound = INFINITY;
 };
 
+/// Of `count` points (anything with a `position` and a signed `distance` to a plane of normal
+/// n), the indices of the four that a contact manifold keeps: the deepest, the farthest from it,
+/// and the two that span the largest triangles with those two on either side (-1 where none
+/// does; the second is the first when every point lies where the deepest does). Box pairs'
+/// manifolds (boxPairManifold) and the floor's vertices (floor.cpp) are reduced by it.
+template <class Point>
+void pickFour(const Point* points, int count, Vec3 n, int pick[4]) {
+    pick[0] = 0, pick[1] = pick[2] = pick[3] = -1;
+    for (int k = 1; k < count; ++k)
+        if (points[k].distance < points[pick[0]].distance) pick[0] = k;
+    float far = -1;
+    for (int k = 0; k < count; ++k) {
+        const float d2 = lengthSquared(points[k].position - points[pick[0]].position);
+        if (d2 > far) far = d2, pick[1] = k;
+    }
+    float most = 0, least = 0;
+    const Vec3 a = points[pick[0]].position, b = points[pick[1]].position;
+    for (int k = 0; k < count; ++k) {
+        const float area = dot(cross(b - a, points[k].position - a), n);
+        if (area > most) most = area, pick[2] = k;
+        if (area < least) least = area, pick[3] = k;
+    }
+}
+
 /// Separating-axis test of two deformed cell boxes on their twelve face planes, and the
 /// manifold of the axis of least overlap among the faces that lead out of their bodies
 /// (outside faces; all six when a box has none): the incident box's face most opposed to the
