@@ -5,6 +5,7 @@
 // then the boundary nodes' local coordinates and the outside surface set).
 #include "ffdaabb/lattice.h"
 
+#include "dynamics/simd4.h"
 #include "ffdaabb/error.h"
 #include "lattice/geometry.h"
 
@@ -474,22 +475,44 @@ Lattice buildLattice(const TriangleMesh& mesh, const LatticeSettings& settings,
 
 void deformVertices(const Lattice& lattice, std::span<const Vec3> particles,
                     std::span<Vec3> outVertices) {
+    using detail::F4;
+    using detail::splat;
     const size_t n = std::min(outVertices.size(), lattice.vertices.size());
     const Embedding* embed = lattice.vertices.data();
-    const std::array<uint32_t, 8>* corners = lattice.cellParticles.data();
-    const Vec3* x = particles.data();
-    for (size_t v = 0; v < n; ++v) {
+    // Each cell's trilinear map as a polynomial in (s, t, u), its 8 coefficients (x, y, z in a
+    // vector's lanes) made once: p = a + b s + c t + d u + e st + f su + g tu + h stu.
+    thread_local std::vector<F4> poly;
+    poly.resize(lattice.cellParticles.size() * 8);
+    for (size_t c = 0; c < lattice.cellParticles.size(); ++c) {
+        const std::array<uint32_t, 8>& q = lattice.cellParticles[c];
+        F4 p[8];
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 v = particles[q[k]];
+            p[k] = F4{v.x, v.y, v.z, 0.0f};
+        }
+        F4* out = &poly[c * 8];
+        out[0] = p[0];
+        out[1] = p[1] - p[0];
+        out[2] = p[2] - p[0];
+        out[3] = p[4] - p[0];
+        out[4] = (p[3] - p[2]) - (p[1] - p[0]);
+        out[5] = (p[5] - p[4]) - (p[1] - p[0]);
+        out[6] = (p[6] - p[4]) - (p[2] - p[0]);
+        out[7] = ((p[7] - p[6]) - (p[5] - p[4])) - ((p[3] - p[2]) - (p[1] - p[0]));
+    }
+    float* out = &outVertices.data()->x;
+    auto vertex = [&](size_t v) {
         const Embedding e = embed[v];
-        const std::array<uint32_t, 8>& q = corners[e.cell];
+        const F4* k = &poly[size_t(e.cell) * 8];
         const float s = e.local.x, t = e.local.y, u = e.local.z;
-        // Tensor-product lerps: 4 along x, 2 along y, 1 along z (7 instead of 8 weighted sums).
-        const Vec3 x00 = x[q[0]] + (x[q[1]] - x[q[0]]) * s;
-        const Vec3 x10 = x[q[2]] + (x[q[3]] - x[q[2]]) * s;
-        const Vec3 x01 = x[q[4]] + (x[q[5]] - x[q[4]]) * s;
-        const Vec3 x11 = x[q[6]] + (x[q[7]] - x[q[6]]) * s;
-        const Vec3 y0 = x00 + (x10 - x00) * t;
-        const Vec3 y1 = x01 + (x11 - x01) * t;
-        outVertices[v] = y0 + (y1 - y0) * u;
+        return k[0] + k[1] * splat(s) + k[2] * splat(t) + k[3] * splat(u) + k[4] * splat(s * t) +
+               k[5] * splat(s * u) + k[6] * splat(t * u) + k[7] * splat(s * t * u);
+    };
+    // Four floats a vertex, the fourth overwritten by the next vertex's x; the last one three.
+    for (size_t v = 0; v + 1 < n; ++v) detail::store4(out + 3 * v, vertex(v));
+    if (n > 0) {
+        const F4 r = vertex(n - 1);
+        out[3 * (n - 1)] = r[0], out[3 * (n - 1) + 1] = r[1], out[3 * (n - 1) + 2] = r[2];
     }
 }
 
