@@ -159,16 +159,22 @@ public:
     /// reported, the same (q, entry) pairs, in another order: each cell that several queries
     /// visit (neighbouring boxes of one body overlap) is looked up and its entries read once
     /// for all of them, query after query while they stay in the cache.
+    ///
+    /// `reach` (>= 0), when less than the allowance: the largest reach of the owners whose items
+    /// the caller wants; the cells visited are then those of `within` grown by it alone, which
+    /// hold every such item whose cube meets `within` (stored in its own cell only). Items of
+    /// other owners may then be missed.
     template <class F>
-    void forEachNearAll(std::span<const Aabb> within, uint32_t skipOwner, GroupScratch& g,
-                        F&& f) const {
+    void forEachNearAll(std::span<const Aabb> within, uint32_t skipOwner, GroupScratch& g, F&& f,
+                        float reach = INFINITY) const {
         const size_t queries = within.size();
         if (queries == 0) return;
+        const float pad = std::min(reach, allowance_);
         g.range.resize(queries * 6);
         int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX},
                 hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
         for (size_t q = 0; q < queries; ++q) {
-            const Aabb range = padded(within[q]);
+            const Aabb range = padded(within[q], pad);
             int32_t* r = &g.range[q * 6];
             for (int a = 0; a < 3; ++a) {
                 r[2 * a] = cell(range.lo[a]), r[2 * a + 1] = cell(range.hi[a]);
@@ -301,8 +307,10 @@ private:
 
     /// `within` grown by the allowance and a few float roundings of its coordinates, so that a
     /// cube meeting `within` always has its shrunk cube overlap the cells of the result.
-    Aabb padded(const Aabb& within) const {
-        auto pad = [&](float v) { return allowance_ > 0 ? allowance_ + 1e-6f * std::abs(v) : 0; };
+    Aabb padded(const Aabb& within) const { return padded(within, allowance_); }
+    /// The same, grown by `allowance` (at most the table's) instead.
+    Aabb padded(const Aabb& within, float allowance) const {
+        auto pad = [&](float v) { return allowance > 0 ? allowance + 1e-6f * std::abs(v) : 0; };
         return {within.lo - Vec3{pad(within.lo.x), pad(within.lo.y), pad(within.lo.z)},
                 within.hi + Vec3{pad(within.hi.x), pad(within.hi.y), pad(within.hi.z)}};
     }

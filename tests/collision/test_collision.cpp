@@ -478,6 +478,50 @@ TEST(SpatialHash, QueriesMadeTogetherFindWhatEachFindsAlone) {
     }
 }
 
+// Queries made together and told the largest reach of the owners wanted (less than the
+// allowance) visit fewer cells but find every item of those owners that the plain queries find.
+TEST(SpatialHash, QueriesToldTheirOwnersReachFindTheirItems) {
+    std::mt19937 rng(58);
+    std::uniform_real_distribution<float> u(-2, 2), r(0, 0.6f), spread(-0.8f, 0.8f);
+    const std::vector<float> reach = {0.0f, 0.01f, 0.04f, 0.2f, 0.9f};
+    detail::SpatialHash hash;
+    hash.begin(3000, 0.25f, reach, 0.25f * 0.25f); // the allowance: a quarter of a cell
+    std::vector<Vec3> points(3000);
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        points[i] = {u(rng), u(rng), u(rng)};
+        hash.add(i, (i / 7) % 5, points[i]);
+    }
+    hash.reserveTable(hash.stagedCount());
+    hash.build();
+    detail::SpatialHash::GroupScratch scratch;
+    size_t found = 0;
+    for (int group = 0; group < 120; ++group) {
+        const Vec3 centre{u(rng), u(rng), u(rng)};
+        std::vector<Aabb> within(1 + group % 9);
+        for (Aabb& a : within) {
+            const Vec3 c = centre + Vec3{spread(rng), spread(rng), spread(rng)};
+            const Vec3 h{r(rng), r(rng), r(rng)};
+            a = {c - h, c + h};
+        }
+        // The owners wanted: those of reach at most reach[top].
+        const uint32_t top = uint32_t(group % 3);
+        std::multiset<std::pair<uint32_t, uint32_t>> plain, told;
+        hash.forEachNearAll(within, detail::SpatialHash::kNoOwner, scratch,
+                            [&](uint32_t q, const detail::SpatialHash::Entry& e) {
+                                if (e.owner <= top) plain.insert({q, e.item});
+                            });
+        hash.forEachNearAll(
+            within, detail::SpatialHash::kNoOwner, scratch,
+            [&](uint32_t q, const detail::SpatialHash::Entry& e) {
+                if (e.owner <= top) told.insert({q, e.item});
+            },
+            reach[top]);
+        ASSERT_EQ(told, plain) << "group " << group;
+        found += plain.size();
+    }
+    EXPECT_GT(found, 1500u);
+}
+
 // The box pairs' keys sorted by radix come out as std::sort puts them, for few keys and many,
 // for box counts that need a few bits and many (halves packed into up to 64 bits).
 TEST(BoxPairKeys, SortLikeStdSort) {
