@@ -490,15 +490,17 @@ void deformVertices(const Lattice& lattice, std::span<const Vec3> particles,
             const Vec3 v = particles[q[k]];
             p[k] = F4{v.x, v.y, v.z, 0.0f};
         }
+        // The cell's four edges along s (corners 2j + 4k to 2j + 4k + 1).
+        const F4 e00 = p[1] - p[0], e10 = p[3] - p[2], e01 = p[5] - p[4], e11 = p[7] - p[6];
         F4* out = &poly[c * 8];
         out[0] = p[0];
-        out[1] = p[1] - p[0];
+        out[1] = e00;
         out[2] = p[2] - p[0];
         out[3] = p[4] - p[0];
-        out[4] = (p[3] - p[2]) - (p[1] - p[0]);
-        out[5] = (p[5] - p[4]) - (p[1] - p[0]);
+        out[4] = e10 - e00;
+        out[5] = e01 - e00;
         out[6] = (p[6] - p[4]) - (p[2] - p[0]);
-        out[7] = ((p[7] - p[6]) - (p[5] - p[4])) - ((p[3] - p[2]) - (p[1] - p[0]));
+        out[7] = (e11 - e01) - (e10 - e00);
     }
     float* out = &outVertices.data()->x;
     auto vertex = [&](size_t v) {
