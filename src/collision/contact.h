@@ -40,6 +40,7 @@
 #include "collision/body.h"
 #include "collision/narrow_phase.h"
 #include "collision/spatial_hash.h"
+#include "dynamics/simd4.h"
 #include "ffdaabb/math.h"
 #include "util/workers.h"
 
@@ -235,6 +236,10 @@ std::string contactProblem(std::span<const Contact> contacts, std::span<const Bo
 /// below it.
 struct SolverScratch {
     std::vector<float> slack, bodyReach, zoneDeepest;
+    /// The particles' positions and velocities as the sweeps read and write them: one 4-lane
+    /// vector each (the fourth lane unused), so that a point's blend and push are vector
+    /// operations, each the same arithmetic lane by lane as on Vec3 (contact_solver.cpp).
+    std::vector<F4> x4, v4;
     /// The contacts the later sweeps visit, and the rigid phase's impacts: zone z's at
     /// [schedule.zoneStart[z], activeEnd[z]) (impactEnd[z]).
     std::vector<uint32_t> active, activeEnd, impacts, impactEnd;

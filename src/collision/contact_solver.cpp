@@ -13,13 +13,59 @@ namespace ffd::detail {
 
 namespace {
 
-// Moves the point by `delta` (generalised-inverse-mass weighted).
-void push(const PointWeights& p, std::span<Vec3> values, std::span<const float> invMass,
-          Vec3 delta) {
-    for (int k = 0; k < 8; ++k) {
-        const uint32_t i = p.particle[k];
-        values[i] += delta * (p.weight[k] * invMass[i]);
-    }
+// A point's particles and trilinear weights with the weights in vector lanes (0-3, 4-7): the
+// products of trilinearWeights, in the same order.
+struct Point4 {
+    const uint32_t* particle = nullptr;
+    F4 weight[2];
+};
+Point4 point4(const ContactPoint& p, std::span<const BoxParticles> boxes) {
+    const float s = p.local.x, t = p.local.y, u = p.local.z;
+    const float s0 = 1 - s, t0 = 1 - t, u0 = 1 - u;
+    const F4 st = F4{s0, s, s0, s} * F4{t0, t0, t, t};
+    return {boxes[p.box].data(), {st * u0, st * u}};
+}
+
+// The sweeps' particles (SolverScratch::x4, v4): `values` copied into 4-lane vectors, and back.
+// Lane by lane the vector operations below are the Vec3 ones (Vec3 has no fused or reordered
+// arithmetic either), so the results are bit for bit those of sweeps on Vec3, and a point's
+// blend and push are a load, a multiply and an add per particle instead of three of each, with
+// each particle's store and the next sweep's load of it the same 16 bytes.
+void toLanes(std::span<const Vec3> values, std::vector<F4>& out, Workers& workers) {
+    out.resize(values.size());
+    workers.forRange(values.size(), [&](size_t first, size_t last, int) {
+        for (size_t i = first; i < last; ++i) out[i] = F4{values[i].x, values[i].y, values[i].z, 0};
+    });
+}
+void fromLanes(std::span<const F4> lanes, std::span<Vec3> out, Workers& workers) {
+    workers.forRange(out.size(), [&](size_t first, size_t last, int) {
+        for (size_t i = first; i < last; ++i) out[i] = {lanes[i][0], lanes[i][1], lanes[i][2]};
+    });
+}
+Vec3 toVec3(F4 v) {
+    return {v[0], v[1], v[2]};
+}
+F4 lanes(Vec3 v) {
+    return F4{v.x, v.y, v.z, 0};
+}
+
+// blend() on vector lanes.
+F4 blend4(const Point4& p, const F4* values) {
+    F4 r{};
+    for (int h = 0; h < 2; ++h)
+        for (int k = 0; k < 4; ++k) r += values[p.particle[4 * h + k]] * p.weight[h][k];
+    return r;
+}
+
+// Moves the point by `delta`, generalised-inverse-mass weighted: each particle by `delta` times
+// its share (its weight over its mass, shares()).
+void push4(const Point4& p, F4* values, const float* share, F4 delta) {
+    for (int k = 0; k < 8; ++k) values[p.particle[k]] += delta * share[k];
+}
+void shares(const Point4& p, const float* invMass, float* share) {
+    for (int h = 0; h < 2; ++h)
+        for (int k = 0; k < 4; ++k)
+            share[4 * h + k] = p.weight[h][k] * invMass[p.particle[4 * h + k]];
 }
 
 // Calls fn(z) for the zones z of the schedule whose subset [zoneStart[z], end[z]) is not empty
@@ -358,10 +404,13 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
         return c.rigidity * ramp;
     };
     // Every contact's approach (the velocity pass reads it too), and the impacts kept.
+    toLanes(v, scratch.v4, workers);
+    const F4* const V = scratch.v4.data();
     selectInZones(schedule, workers, impacts, impactEnd, [&](uint32_t k) {
         Contact& c = contacts[k];
-        const Vec3 rel = blend(c.a, boxes, v) - (c.hasB ? blend(c.b, boxes, v) : Vec3{});
-        c.approachSpeed = dot(rel, c.normal);
+        F4 rel = blend4(point4(c.a, boxes), V);
+        if (c.hasB) rel -= blend4(point4(c.b, boxes), V);
+        c.approachSpeed = dot(toVec3(rel), c.normal);
         c.rigidImpulse = 0;
         c.rigidFriction = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
@@ -618,18 +667,34 @@ void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParti
     const SolverSchedule& schedule = scratch.schedule;
     const float invDt = 1.0f / dt;
     const bool follow = !v.empty();
+    toLanes(x, scratch.x4, workers);
+    if (follow) toLanes(v, scratch.v4, workers);
+    F4* const X = scratch.x4.data();
+    F4* const V = scratch.v4.data();
+    const float* const im = invMass.data();
     auto sweep = [&](Contact& c) {
-        const ContactWeights w(c, boxes);
-        const float C = separation(c, w, x) - c.tolerated;
+        const Point4 a = point4(c.a, boxes);
+        Point4 b;
+        F4 d = blend4(a, X);
+        if (c.hasB) {
+            b = point4(c.b, boxes);
+            d -= blend4(b, X);
+        }
+        const float C =
+            d[0] * c.normal.x + d[1] * c.normal.y + d[2] * c.normal.z - c.offset - c.tolerated;
         const float W = c.invMassA + c.invMassB;
         if (C >= 0 || !(W > 0)) return C;
         const float lambda = -C / W;
-        push(w.a, x, invMass, c.normal * lambda);
-        if (c.hasB) push(w.b, x, invMass, c.normal * -lambda);
+        float shareA[8], shareB[8];
+        shares(a, im, shareA);
+        if (c.hasB) shares(b, im, shareB);
+        const F4 n = lanes(c.normal);
+        push4(a, X, shareA, n * lambda);
+        if (c.hasB) push4(b, X, shareB, n * -lambda);
         if (follow) {
             c.positionImpulse += lambda * invDt;
-            push(w.a, v, invMass, c.normal * (lambda * invDt));
-            if (c.hasB) push(w.b, v, invMass, c.normal * (-lambda * invDt));
+            push4(a, V, shareA, n * (lambda * invDt));
+            if (c.hasB) push4(b, V, shareB, n * (-lambda * invDt));
         }
         return C;
     };
@@ -662,11 +727,15 @@ void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParti
     });
     float deepest = 0;
     for (const float d : scratch.zoneDeepest) deepest = maxNum(deepest, d);
-    if (iterations <= 1 || deepest <= 0) return;
-    selectReachable(contacts, scratch, workers);
-    for (int it = 1; it < iterations; ++it)
-        sweepZones(schedule, scratch.activeEnd, workers,
-                   [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
+    if (iterations > 1 && deepest > 0) {
+        selectReachable(contacts, scratch, workers);
+        for (int it = 1; it < iterations; ++it)
+            sweepZones(schedule, scratch.activeEnd, workers,
+                       [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
+    }
+    if (deepest <= 0) return; // nothing moved
+    fromLanes(scratch.x4, x, workers);
+    if (follow) fromLanes(scratch.v4, v, workers);
 }
 
 float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxParticles> boxes,
@@ -680,12 +749,19 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
     // approach before it acted (-infinity when it acts: an impulse, or a friction budget).
     std::vector<float>& change = scratch.bodyReach; // per body, the largest in the first sweep
     change.assign(bodyCount, 0.0f);
+    toLanes(x, scratch.x4, workers);
+    toLanes(v, scratch.v4, workers);
+    const F4* const X = scratch.x4.data();
+    F4* const V = scratch.v4.data();
+    const float* const im = invMass.data();
     bool firstSweep = true;
-    auto sweep = [&](Contact& c, const ContactWeights& w) {
+    auto sweep = [&](Contact& c, const Point4& a, const Point4& b) {
         const float W = c.invMassA + c.invMassB;
         if (!(W > 0)) return INFINITY;
-        const Vec3 rel = blend(w.a, v) - (c.hasB ? blend(w.b, v) : Vec3{});
-        const float vn = dot(rel, c.normal);
+        F4 rel = blend4(a, V);
+        if (c.hasB) rel -= blend4(b, V);
+        const F4 n = lanes(c.normal);
+        const float vn = rel[0] * c.normal.x + rel[1] * c.normal.y + rel[2] * c.normal.z;
         // Close at most the remaining gap next substep (speculative); bounce back fast
         // impacts by the restitution.
         float target = -c.gap * invDt;
@@ -693,25 +769,30 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
             target = maxNum(target, -c.restitution * c.approachSpeed);
         const float oldNormal = c.normalImpulse;
         c.normalImpulse = maxNum(oldNormal + (target - vn) / W, 0.0f);
-        Vec3 impulse = c.normal * (c.normalImpulse - oldNormal);
+        F4 impulse = n * (c.normalImpulse - oldNormal);
         const float limit = maxNum(
             c.friction * (c.rigidImpulse + c.positionImpulse + c.normalImpulse) - c.rigidFriction,
             0.0f);
         if (limit > 0) {
-            const Vec3 vt = rel - c.normal * vn;
-            const Vec3 oldTangent = c.tangentImpulse;
-            Vec3 t = oldTangent - vt / W;
-            const float tl = length(t);
+            const F4 vt = rel - n * vn;
+            const F4 oldTangent = lanes(c.tangentImpulse);
+            F4 t = oldTangent - vt / W;
+            const float tl = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
             if (tl > limit) t = t * (limit / tl);
-            c.tangentImpulse = t;
+            c.tangentImpulse = toVec3(t);
             impulse += t - oldTangent;
         }
         const bool acts = c.normalImpulse > 0 || limit > 0;
         if (!acts && oldNormal == 0) return vn - target; // nothing to apply
-        push(w.a, v, invMass, impulse);
-        if (c.hasB) push(w.b, v, invMass, -impulse);
+        float share[8];
+        shares(a, im, share);
+        push4(a, V, share, impulse);
+        if (c.hasB) {
+            shares(b, im, share);
+            push4(b, V, share, -impulse);
+        }
         if (firstSweep) {
-            const float dv = length(impulse) * W;
+            const float dv = length(toVec3(impulse)) * W;
             change[c.bodyA] = maxNum(change[c.bodyA], dv);
             if (c.hasB) change[c.bodyB] = maxNum(change[c.bodyB], dv);
         }
@@ -733,24 +814,32 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
             Contact& c = contacts[schedule.order[m]];
             c.normalImpulse = 0;
             c.tangentImpulse = {};
-            const ContactWeights w(c, boxes);
-            const float C = separation(c, w, x);
+            const Point4 a = point4(c.a, boxes);
+            Point4 b;
+            F4 p = blend4(a, X);
+            if (c.hasB) {
+                b = point4(c.b, boxes);
+                p -= blend4(b, X);
+            }
+            const float C = p[0] * c.normal.x + p[1] * c.normal.y + p[2] * c.normal.z - c.offset;
             c.gap = maxNum(C, 0.0f);
             d = maxNum(d, -C);
-            slack[schedule.order[m]] = sweep(c, w);
+            slack[schedule.order[m]] = sweep(c, a, b);
         }
         zoneDeepest[z] = d;
     });
     float deepest = 0;
     for (const float d : zoneDeepest) deepest = maxNum(deepest, d);
-    if (iterations <= 1) return deepest;
-    selectReachable(contacts, scratch, workers);
-    firstSweep = false;
-    for (int it = 1; it < iterations; ++it)
-        sweepZones(schedule, scratch.activeEnd, workers, [&](uint32_t m) {
-            Contact& c = contacts[scratch.active[m]];
-            sweep(c, ContactWeights(c, boxes));
-        });
+    if (iterations > 1) {
+        selectReachable(contacts, scratch, workers);
+        firstSweep = false;
+        for (int it = 1; it < iterations; ++it)
+            sweepZones(schedule, scratch.activeEnd, workers, [&](uint32_t m) {
+                Contact& c = contacts[scratch.active[m]];
+                sweep(c, point4(c.a, boxes), c.hasB ? point4(c.b, boxes) : Point4{});
+            });
+    }
+    fromLanes(scratch.v4, v, workers);
     return deepest;
 }
 

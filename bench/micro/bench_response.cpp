@@ -1,0 +1,79 @@
+// The contact response of one substep (collision/contact.h: pre-stabilisation, the rigid impact
+// phase, the move, the projection and the velocity pass) on the contacts of a paper scene while
+// its pile lands: the same positions, velocities and contacts every iteration, so it times the
+// solver alone, without the detection that the whole-frame benchmarks mix in.
+#include "collision/overlap_recovery.h"
+#include "collision/pipeline.h"
+#include "ffdaabb/scene.h"
+#include "world/stages.h"
+#include "world/world_data.h"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+using namespace ffd;
+
+namespace {
+
+const char* kScenes[] = {"alphabets", "spheres"};
+
+struct Landing {
+    SceneBuild build;
+    std::vector<Vec3> x, v;
+    detail::ContactList contacts;
+};
+
+// The scene after 90 frames, one more substep's contacts found (as World::step finds them), and
+// the state they were found on.
+Landing& landing(int index) {
+    static std::map<int, std::unique_ptr<Landing>> cache;
+    auto& slot = cache[index];
+    if (slot) return *slot;
+    slot = std::make_unique<Landing>();
+    Landing& l = *slot;
+    l.build = buildScene(loadScene(kScenes[index]));
+    World& world = l.build.world;
+    for (int f = 0; f < 90; ++f) world.step();
+    detail::WorldData& w = detail::dataOf(world);
+    const float dt = w.settings.frameStep / float(w.settings.substeps);
+    detail::CollisionWorld view = detail::collisionView(w);
+    detail::latticeDynamicsStage(w, dt);
+    detail::nodeUpdateStage(w, view);
+    w.collision.pairs.clear();
+    detail::trackOverlaps(view);
+    detail::pushPairsApart(view, dt);
+    detail::sphereTest(view);
+    detail::findAllObjectContacts(view);
+    detail::findFloorContacts(view);
+    detail::settleOverlaps(view);
+    l.x = w.x;
+    l.v = w.v;
+    l.contacts = w.collision.all;
+    return l;
+}
+
+void BM_ContactResponse(benchmark::State& state) {
+    Landing& l = landing(int(state.range(0)));
+    detail::WorldData& w = detail::dataOf(l.build.world);
+    const float dt = w.settings.frameStep / float(w.settings.substeps);
+    detail::CollisionWorld view = detail::collisionView(w);
+    for (auto _ : state) {
+        state.PauseTiming();
+        w.x = l.x;
+        w.v = l.v;
+        w.collision.all = l.contacts;
+        state.ResumeTiming();
+        detail::respondBeforeMove(view, dt);
+        detail::positionUpdateStage(w, dt);
+        benchmark::DoNotOptimize(detail::respondAfterMove(view, dt));
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(l.contacts.size()));
+    state.SetLabel(kScenes[state.range(0)]);
+    state.counters["contacts"] = double(l.contacts.size());
+}
+
+} // namespace
+
+BENCHMARK(BM_ContactResponse)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
