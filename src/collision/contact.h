@@ -413,7 +413,7 @@ struct CollisionState {
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.
     std::vector<std::span<const Contact>> sortSpans;
     std::vector<const Contact*> sortSources;
-    std::vector<std::pair<uint64_t, uint32_t>> sortKeys;
+    std::vector<std::pair<uint64_t, uint32_t>> sortKeys, sortKeyScratch;
     ContactList sortScratch;
     size_t objectCount = 0;
     /// Per body, where its floor or plane contacts start in `all` (findFloorContacts).
