@@ -57,6 +57,19 @@ F4 blend4(const Point4& p, const F4* values) {
     return r;
 }
 
+// A contact's points (b only when it has one) and its constraint (pA - pB) . n - offset on the
+// positions in lanes: separation() in the same arithmetic.
+float separation4(const Contact& c, std::span<const BoxParticles> boxes, const F4* x, Point4& a,
+                  Point4& b) {
+    a = point4(c.a, boxes);
+    F4 d = blend4(a, x);
+    if (c.hasB) {
+        b = point4(c.b, boxes);
+        d -= blend4(b, x);
+    }
+    return d[0] * c.normal.x + d[1] * c.normal.y + d[2] * c.normal.z - c.offset;
+}
+
 // Moves the point by `delta`, generalised-inverse-mass weighted: each particle by `delta` times
 // its share (its weight over its mass, shares()).
 void push4(const Point4& p, F4* values, const float* share, F4 delta) {
@@ -673,15 +686,8 @@ void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParti
     F4* const V = scratch.v4.data();
     const float* const im = invMass.data();
     auto sweep = [&](Contact& c) {
-        const Point4 a = point4(c.a, boxes);
-        Point4 b;
-        F4 d = blend4(a, X);
-        if (c.hasB) {
-            b = point4(c.b, boxes);
-            d -= blend4(b, X);
-        }
-        const float C =
-            d[0] * c.normal.x + d[1] * c.normal.y + d[2] * c.normal.z - c.offset - c.tolerated;
+        Point4 a, b;
+        const float C = separation4(c, boxes, X, a, b) - c.tolerated;
         const float W = c.invMassA + c.invMassB;
         if (C >= 0 || !(W > 0)) return C;
         const float lambda = -C / W;
@@ -814,14 +820,8 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
             Contact& c = contacts[schedule.order[m]];
             c.normalImpulse = 0;
             c.tangentImpulse = {};
-            const Point4 a = point4(c.a, boxes);
-            Point4 b;
-            F4 p = blend4(a, X);
-            if (c.hasB) {
-                b = point4(c.b, boxes);
-                p -= blend4(b, X);
-            }
-            const float C = p[0] * c.normal.x + p[1] * c.normal.y + p[2] * c.normal.z - c.offset;
+            Point4 a, b;
+            const float C = separation4(c, boxes, X, a, b);
             c.gap = maxNum(C, 0.0f);
             d = maxNum(d, -C);
             slack[schedule.order[m]] = sweep(c, a, b);
