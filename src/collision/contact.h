@@ -165,13 +165,10 @@ struct ContactWeights {
 
 /// The contact's constraint C = (pA - pB) . n - offset on positions x: its points' separation
 /// along the normal (negative: overlap).
-inline float separation(const Contact& c, const ContactWeights& w, std::span<const Vec3> x) {
-    const Vec3 pb = c.hasB ? blend(w.b, x) : Vec3{};
-    return dot(blend(w.a, x) - pb, c.normal) - c.offset;
-}
 inline float separation(const Contact& c, std::span<const BoxParticles> boxes,
                         std::span<const Vec3> x) {
-    return separation(c, ContactWeights(c, boxes), x);
+    const Vec3 pb = c.hasB ? blend(c.b, boxes, x) : Vec3{};
+    return dot(blend(c.a, boxes, x) - pb, c.normal) - c.offset;
 }
 
 /// Sort key giving every contact set the same order whichever pipeline found it: by A's node,

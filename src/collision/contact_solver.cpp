@@ -45,6 +45,10 @@ void fromLanes(std::span<const F4> lanes, std::span<Vec3> out, Workers& workers)
 Vec3 toVec3(F4 v) {
     return {v[0], v[1], v[2]};
 }
+// dot(toVec3(v), n), the same sum.
+float dot(F4 v, Vec3 n) {
+    return v[0] * n.x + v[1] * n.y + v[2] * n.z;
+}
 F4 lanes(Vec3 v) {
     return F4{v.x, v.y, v.z, 0};
 }
@@ -67,7 +71,7 @@ float separation4(const Contact& c, std::span<const BoxParticles> boxes, const F
         b = point4(c.b, boxes);
         d -= blend4(b, x);
     }
-    return d[0] * c.normal.x + d[1] * c.normal.y + d[2] * c.normal.z - c.offset;
+    return dot(d, c.normal) - c.offset;
 }
 
 // Moves the point by `delta`, generalised-inverse-mass weighted: each particle by `delta` times
@@ -423,7 +427,7 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
         Contact& c = contacts[k];
         F4 rel = blend4(point4(c.a, boxes), V);
         if (c.hasB) rel -= blend4(point4(c.b, boxes), V);
-        c.approachSpeed = dot(toVec3(rel), c.normal);
+        c.approachSpeed = dot(rel, c.normal);
         c.rigidImpulse = 0;
         c.rigidFriction = 0;
         // A deep contact's approach is its bodies restoring the dent the last push-out left:
@@ -767,7 +771,7 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
         F4 rel = blend4(a, V);
         if (c.hasB) rel -= blend4(b, V);
         const F4 n = lanes(c.normal);
-        const float vn = rel[0] * c.normal.x + rel[1] * c.normal.y + rel[2] * c.normal.z;
+        const float vn = dot(rel, c.normal);
         // Close at most the remaining gap next substep (speculative); bounce back fast
         // impacts by the restitution.
         float target = -c.gap * invDt;
