@@ -357,7 +357,9 @@ public:
     std::vector<PinId> pins() const;
 
     /// Object contacts, then floor contacts, of the last substep of the last step() (empty before
-    /// the first step and in CollisionMode::None for objects), in a canonical order. Clears `out`.
+    /// the first step and in CollisionMode::None for objects), in an order set by the bodies'
+    /// places alone (the solver's zones, then each point's node and box), the same for every
+    /// collision mode and thread count. Clears `out`.
     void contacts(std::vector<ContactInfo>& out) const;
     /// Mass of one lattice particle, kg (its share of the body's mass).
     float particleMass(BodyId body, uint32_t particle) const;

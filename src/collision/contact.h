@@ -202,6 +202,17 @@ struct ZoneCell {
     int32_t i = 0, k = 0;
 };
 
+/// The zone grid's lowest cell over `cells` (bodies without a finite centre left out; INT32_MAX
+/// for both when there are none).
+void lowestZoneCell(std::span<const ZoneCell> cells, int32_t& i0, int32_t& k0);
+
+/// The zone key of a contact between bodies in cells a and b (b = a for the floor), the grid's
+/// lowest cell (i0, k0): colour (0-3), then the block's indices from the lowest cell (14 bits
+/// each); kTailZone for bodies more than a cell apart and blocks beyond the indices' range.
+/// Zones sorted by key are the schedule's order.
+inline constexpr uint32_t kTailZone = 4u << 28;
+uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0);
+
 /// Groups the contacts in zones by their bodies' cells (`cells`, per dense body index; any
 /// grid whose cells are at least as wide as every body gives few contacts outside the zones):
 /// a contact's zone is the 2 x 2 block of cells whose lowest corner is the lowest of its bodies'
@@ -410,6 +421,7 @@ struct CollisionState {
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.
     std::vector<std::span<const Contact>> sortSpans;
     std::vector<const Contact*> sortSources;
+    std::vector<ZoneCell> sortCells; ///< per body, the zone cells the contacts are sorted by
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys, sortKeyScratch;
     ContactList sortScratch;
     size_t objectCount = 0;

@@ -190,6 +190,24 @@ void makeContactPoint(uint32_t box, Vec3 local, std::span<const BoxParticles> bo
     for (int k = 0; k < 8; ++k) outInvMass += p.weight[k] * p.weight[k] * invMass[p.particle[k]];
 }
 
+void lowestZoneCell(std::span<const ZoneCell> cells, int32_t& i0, int32_t& k0) {
+    i0 = k0 = INT32_MAX;
+    for (const ZoneCell& c : cells)
+        if (c.i != ZoneCell::kNowhere) i0 = std::min(i0, c.i), k0 = std::min(k0, c.k);
+}
+
+uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0) {
+    // The tail, colour 4, is one zone: the contacts between bodies more than a cell apart
+    // (which may share bodies with any zone), and blocks beyond the indices' range.
+    constexpr int64_t kBlocks = 1 << 14;
+    const int64_t i = int64_t(std::min(a.i, b.i)) - i0;
+    const int64_t k = int64_t(std::min(a.k, b.k)) - k0;
+    if (std::abs(int64_t(a.i) - b.i) <= 1 && std::abs(int64_t(a.k) - b.k) <= 1 && i >= 0 &&
+        k >= 0 && i < kBlocks && k < kBlocks)
+        return uint32_t((i & 1) | (k & 1) << 1) << 28 | uint32_t(i) << 14 | uint32_t(k);
+    return kTailZone;
+}
+
 void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
                          SolverSchedule& out, Workers& workers) {
     out.order.clear();
@@ -197,28 +215,14 @@ void buildSolverSchedule(std::span<const Contact> contacts, std::span<const Zone
     out.colourStart.clear();
     out.bySize.clear();
     if (contacts.empty()) return;
-    int32_t i0 = INT32_MAX, k0 = INT32_MAX;
-    for (const ZoneCell& c : cells)
-        if (c.i != ZoneCell::kNowhere) i0 = std::min(i0, c.i), k0 = std::min(k0, c.k);
-    // Zone key: colour (0-3), then the block's indices from the lowest cell (14 bits each).
-    // The tail, colour 4, is one zone: the contacts between bodies more than a cell apart
-    // (which may share bodies with any zone), and blocks beyond the indices' range.
-    constexpr uint32_t kTail = 4u << 28;
-    constexpr int64_t kBlocks = 1 << 14;
+    int32_t i0, k0;
+    lowestZoneCell(cells, i0, k0);
     std::vector<uint32_t>& zoneOf = out.zoneOf;
     zoneOf.resize(contacts.size());
     workers.forRange(contacts.size(), [&](size_t first, size_t last, int) {
         for (size_t n = first; n < last; ++n) {
             const Contact& c = contacts[n];
-            const ZoneCell a = cells[c.bodyA];
-            const ZoneCell b = c.hasB ? cells[c.bodyB] : a;
-            const int64_t i = int64_t(std::min(a.i, b.i)) - i0;
-            const int64_t k = int64_t(std::min(a.k, b.k)) - k0;
-            uint32_t zone = kTail;
-            if (std::abs(int64_t(a.i) - b.i) <= 1 && std::abs(int64_t(a.k) - b.k) <= 1 && i >= 0 &&
-                k >= 0 && i < kBlocks && k < kBlocks)
-                zone = uint32_t((i & 1) | (k & 1) << 1) << 28 | uint32_t(i) << 14 | uint32_t(k);
-            zoneOf[n] = zone;
+            zoneOf[n] = zoneKey(cells[c.bodyA], c.hasB ? cells[c.bodyB] : cells[c.bodyA], i0, k0);
         }
     });
     // The zones in key order (few: sorted directly), then the contacts counted into them in

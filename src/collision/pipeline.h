@@ -64,6 +64,11 @@ void findAllObjectContacts(CollisionWorld& world);
 /// would: by radix on the two halves packed together when there are many (`scratch` is reused).
 void sortBoxPairKeys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch, uint32_t boxes);
 
+/// The solver's zone cells (contact.h, buildSolverSchedule): each body's cell on a grid over x
+/// and z as wide as the widest body, so that bodies in contact lie in the same or neighbouring
+/// cells. It depends on the positions alone, never on the thread count.
+void zoneCells(const CollisionWorld& world, std::vector<ZoneCell>& cells);
+
 /// The response before the position update: pre-stabilisation and the rigid phase (see
 /// collision/contact.h).
 void respondBeforeMove(CollisionWorld& world, float dt);

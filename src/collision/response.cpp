@@ -9,13 +9,7 @@
 
 namespace ffd::detail {
 
-namespace {
-
-// The solver's zones (contact.h, buildSolverSchedule): each body's cell on a grid over x and
-// z as wide as the widest body, so that bodies in contact lie in the same or neighbouring
-// cells. It depends on the positions alone, never on the thread count.
-void scheduleContacts(CollisionWorld& w) {
-    CollisionState& s = w.collision;
+void zoneCells(const CollisionWorld& w, std::vector<ZoneCell>& cells) {
     float width = 0;
     for (const CollisionBody& r : w.bodies) {
         const Vec3 e = r.bounds.extent();
@@ -23,7 +17,6 @@ void scheduleContacts(CollisionWorld& w) {
     }
     if (!(width > 0) || !std::isfinite(width)) width = 1;
     const float inverse = 1.0f / width;
-    std::vector<ZoneCell>& cells = s.solver.cells;
     cells.resize(w.bodies.size());
     for (size_t b = 0; b < w.bodies.size(); ++b) {
         const Vec3 c = w.bodies[b].bounds.centre() * inverse;
@@ -33,7 +26,14 @@ void scheduleContacts(CollisionWorld& w) {
         else
             cells[b] = {ZoneCell::kNowhere, ZoneCell::kNowhere};
     }
-    buildSolverSchedule(s.all, cells, s.solver.schedule, w.workers);
+}
+
+namespace {
+
+void scheduleContacts(CollisionWorld& w) {
+    CollisionState& s = w.collision;
+    zoneCells(w, s.solver.cells);
+    buildSolverSchedule(s.all, s.solver.cells, s.solver.schedule, w.workers);
 }
 
 } // namespace

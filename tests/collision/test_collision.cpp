@@ -678,10 +678,11 @@ public:
     World world;
 };
 
-// The contacts `mode` finds on the world's current state; `testedPairs`: how many node/box
+// The contacts `mode` finds on the world's current state, each with its solver zone's key (the
+// order they come in: zone by zone, canonical within a zone); `testedPairs`: how many node/box
 // pairs it tested.
-std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, CollisionMode mode,
-                                                          int* testedPairs = nullptr) {
+std::vector<std::tuple<uint32_t, uint64_t, Vec3, float>>
+contactSet(detail::WorldData& w, CollisionMode mode, int* testedPairs = nullptr) {
     detail::CollisionWorld view = detail::collisionView(w);
     detail::updateNodes(view, 0, w.bodies.size());
     w.collision.pairs.clear();
@@ -690,9 +691,14 @@ std::vector<std::tuple<uint64_t, Vec3, float>> contactSet(detail::WorldData& w, 
     int potential = 0;
     detail::findObjectContacts(view, mode, contacts, potential);
     if (testedPairs) *testedPairs = potential;
-    std::vector<std::tuple<uint64_t, Vec3, float>> out;
+    std::vector<detail::ZoneCell> cells;
+    detail::zoneCells(view, cells);
+    int32_t i0, k0;
+    detail::lowestZoneCell(cells, i0, k0);
+    std::vector<std::tuple<uint32_t, uint64_t, Vec3, float>> out;
     for (const detail::Contact& c : contacts)
-        out.emplace_back(detail::contactKey(c), c.normal, c.depth());
+        out.emplace_back(detail::zoneKey(cells[c.bodyA], cells[c.bodyB], i0, k0),
+                         detail::contactKey(c), c.normal, c.depth());
     return out;
 }
 
@@ -717,8 +723,10 @@ TEST(CollisionModes, BrutePreviousAndEnhancedFindIdenticalContacts) {
         ASSERT_EQ(tested[1], tested[0]) << "configuration " << config;
         ASSERT_LE(tested[2], tested[1]) << "configuration " << config;
         ASSERT_EQ(previous, brute) << "configuration " << config << " with " << n << " objects";
-        for (size_t k = 1; k < brute.size(); ++k)
-            ASSERT_LT(std::get<0>(brute[k - 1]), std::get<0>(brute[k])) << "not in canonical order";
+        for (size_t k = 1; k < brute.size(); ++k) // zone by zone, canonical within each
+            ASSERT_LT(std::make_pair(std::get<0>(brute[k - 1]), std::get<1>(brute[k - 1])),
+                      std::make_pair(std::get<0>(brute[k]), std::get<1>(brute[k])))
+                << "not in the zones' canonical order";
         ASSERT_EQ(enhanced, brute) << "configuration " << config << " with " << n << " objects";
         withContacts += !brute.empty();
         total += brute.size();
