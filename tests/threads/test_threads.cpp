@@ -4,6 +4,7 @@
 #include "ffdaabb/error.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/tasks.h"
+#include "ffdaabb/world.h"
 
 #include <gtest/gtest.h>
 
@@ -108,6 +109,32 @@ TEST(ThreadCounts, PaperScenesAtFullSizeStepTheSameOnOneToFourThreads) {
             EXPECT_EQ(hashAfter(name, frames, threads), one)
                 << name << " after " << frames << " frames on " << threads << " threads";
     }
+}
+
+// The contacts a world lists come in an order set by the bodies' places (the solver's zones,
+// then each point's node and box: World::contacts), whichever threads found and sorted them:
+// the same list, bit for bit and in the same order, on one thread and on three.
+TEST(ThreadCounts, TheContactsListedAreTheSameInTheSameOrderOnOneAndThreeThreads) {
+    std::vector<ContactInfo> listed[2];
+    for (int k = 0; k < 2; ++k) {
+        Scene scene = loadScene("spheres");
+        scene.world.threads = k == 0 ? 1 : 3;
+        SceneBuild build = buildScene(scene);
+        for (int f = 0; f < 50; ++f) build.world.step();
+        build.world.contacts(listed[k]);
+    }
+    ASSERT_GT(listed[0].size(), 200u); // the spheres lie on each other and on the floor
+    ASSERT_EQ(listed[1].size(), listed[0].size());
+    size_t objectContacts = 0;
+    for (size_t n = 0; n < listed[0].size(); ++n) {
+        const ContactInfo &a = listed[0][n], &b = listed[1][n];
+        ASSERT_TRUE(a.bodyA == b.bodyA && a.bodyB == b.bodyB) << "contact " << n;
+        ASSERT_TRUE(a.point == b.point && a.normal == b.normal) << "contact " << n;
+        ASSERT_EQ(a.depth, b.depth) << "contact " << n;
+        ASSERT_EQ(a.impulse, b.impulse) << "contact " << n;
+        objectContacts += !a.bodyB.isNull();
+    }
+    EXPECT_GT(objectContacts, 100u);
 }
 
 TEST(ThreadCounts, ChangingTheThreadCountBetweenStepsChangesNothing) {
