@@ -201,16 +201,16 @@ void radixSort(std::vector<T>& items, std::vector<T>& scratch, int keyBits, KeyO
 // Node-major (contactKey): ordering the Gauss-Seidel sweeps box by box instead left the paper's
 // piles measurably more entangled (docs/ALGORITHM.md). The contacts of `sources` (each one
 // thread's, or `out` itself) land in `out` sorted. The keys are unique, so any sort gives the
-// same order: by radix on A's node and B's box packed together (three to four passes for the
-// paper's scenes), where std::sort took 1 % of the alphabets run.
+// same order: by radix on the zone, A's node and B's box packed together (passes of 11 bits; the
+// zone's bits add about one), where std::sort took 1 % of the alphabets run.
 //
 // The contacts go zone by zone (contact.h, buildSolverSchedule: the zone's key, its colour and
 // place, above the canonical key), so that the solver, which sweeps zone by zone, reads them in
-// runs instead of at random: in a pile ten times the paper's the response took 0.89 of its time.
-// Within a zone the order is the canonical one, as the schedule keeps it, so the sweeps visit the
-// contacts in the same order either way. Left canonical while placed bodies recover
-// (settleOverlaps sums their contacts in order) and where the zones' indices and the canonical
-// key do not fit 64 bits together.
+// runs instead of at random: in a pile ten times the paper's the response took 0.86-0.96 of its
+// time (docs/BENCHMARKS.md). Within a zone the order is the canonical one, as the schedule keeps
+// it, so the sweeps visit the contacts in the same order either way. Left canonical while placed
+// bodies recover (settleOverlaps sums their contacts in order) and where the zones' indices and
+// the canonical key do not fit 64 bits together.
 void sortContacts(const CollisionWorld& w, std::span<const std::span<const Contact>> sources,
                   ContactList& out) {
     CollisionState& s = w.collision;
