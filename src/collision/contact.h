@@ -207,10 +207,12 @@ struct ZoneCell {
 void lowestZoneCell(std::span<const ZoneCell> cells, int32_t& i0, int32_t& k0);
 
 /// The zone key of a contact between bodies in cells a and b (b = a for the floor), the grid's
-/// lowest cell (i0, k0): colour (0-3), then the block's indices from the lowest cell (14 bits
-/// each); kTailZone for bodies more than a cell apart and blocks beyond the indices' range.
-/// Zones sorted by key are the schedule's order.
-inline constexpr uint32_t kTailZone = 4u << 28;
+/// lowest cell (i0, k0): colour (0-3), then the block's indices from the lowest cell
+/// (kZoneIndexBits each); kTailZone for bodies more than a cell apart and blocks beyond the
+/// indices' range. Zones sorted by key are the schedule's order.
+inline constexpr int kZoneIndexBits = 14;
+inline constexpr uint32_t kZoneIndexMask = (1u << kZoneIndexBits) - 1;
+inline constexpr uint32_t kTailZone = 4u << 2 * kZoneIndexBits;
 uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0);
 
 /// Groups the contacts in zones by their bodies' cells (`cells`, per dense body index; any

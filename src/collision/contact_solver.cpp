@@ -199,12 +199,13 @@ void lowestZoneCell(std::span<const ZoneCell> cells, int32_t& i0, int32_t& k0) {
 uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0) {
     // The tail, colour 4, is one zone: the contacts between bodies more than a cell apart
     // (which may share bodies with any zone), and blocks beyond the indices' range.
-    constexpr int64_t kBlocks = 1 << 14;
+    constexpr int64_t kBlocks = int64_t(1) << kZoneIndexBits;
     const int64_t i = int64_t(std::min(a.i, b.i)) - i0;
     const int64_t k = int64_t(std::min(a.k, b.k)) - k0;
     if (std::abs(int64_t(a.i) - b.i) <= 1 && std::abs(int64_t(a.k) - b.k) <= 1 && i >= 0 &&
         k >= 0 && i < kBlocks && k < kBlocks)
-        return uint32_t((i & 1) | (k & 1) << 1) << 28 | uint32_t(i) << 14 | uint32_t(k);
+        return uint32_t((i & 1) | (k & 1) << 1) << 2 * kZoneIndexBits |
+               uint32_t(i) << kZoneIndexBits | uint32_t(k);
     return kTailZone;
 }
 
@@ -266,7 +267,8 @@ void buildSolverSchedule(std::span<const Contact> contacts, std::span<const Zone
             count[c * zoneCount + z] = at;
             at += here;
         }
-        if (z == 0 || zones[z] >> 28 != zones[z - 1] >> 28) out.colourStart.push_back(uint32_t(z));
+        if (z == 0 || zones[z] >> 2 * kZoneIndexBits != zones[z - 1] >> 2 * kZoneIndexBits)
+            out.colourStart.push_back(uint32_t(z));
     }
     out.zoneStart[zoneCount] = at;
     out.colourStart.push_back(uint32_t(zoneCount));

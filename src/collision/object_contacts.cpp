@@ -248,11 +248,11 @@ void sortContacts(const CollisionWorld& w, std::span<const std::span<const Conta
             uint64_t key = uint64_t(c.nodeA) << bits | c.boxB;
             if (zoned) {
                 const uint32_t zone = zoneKey(s.sortCells[c.bodyA], s.sortCells[c.bodyB], i0, k0);
-                const uint64_t place = zone == kTailZone
-                                           ? uint64_t(4) << (rowBits + columnBits)
-                                           : uint64_t(zone >> 28) << (rowBits + columnBits) |
-                                                 uint64_t(zone >> 14 & 0x3fff) << columnBits |
-                                                 uint64_t(zone & 0x3fff);
+                // Colour (the tail's 4, its indices 0), row, column, each in its own bits.
+                const uint64_t place =
+                    uint64_t(zone >> 2 * kZoneIndexBits) << (rowBits + columnBits) |
+                    uint64_t(zone >> kZoneIndexBits & kZoneIndexMask) << columnBits |
+                    uint64_t(zone & kZoneIndexMask);
                 key |= place << canonicalBits;
             }
             keys[at[k] + i] = {key, uint32_t(at[k] + i)};
