@@ -206,6 +206,7 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         push[b] -= d * (part * weight - share);
         heaviest[b] = maxNum(heaviest[b], weight);
     };
+    const Vec3 up = normalize(-w.settings.gravity); // zero without gravity
     for (const OverlapPair& p : s.overlaps) {
         const uint32_t a = p.a, b = p.b;
         if (!p.whole) {
@@ -225,26 +226,45 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         const float len = length(d);
         const float scale = minNum(A.sphereRadius, B.sphereRadius);
         d = len > 1e-4f * scale ? d / len : pairDirection(a, b);
-        // The pair neither approaches along the line of centres (one resting on the other
-        // under gravity would otherwise fall through it: there are no object contacts).
+        // The pair moves as one but for separating along the line of centres: all its other
+        // relative velocity is removed (an inelastic impulse that sticks), so that one resting
+        // on the other under gravity neither falls through it (there are no object contacts)
+        // nor slides off it. With only the approach along the line removed (a line that means
+        // little for bodies this deep in each other), a heap of whole pairs was a slope without
+        // friction that carried the bodies riding it off at up to 4 m/s.
         for (const uint32_t i : {a, b})
             if (std::isnan(velocity[i].x))
                 before[i] = velocity[i] = massWeightedMean(w.bodies[i], w.v);
-        const float approach = dot(velocity[a] - velocity[b], d);
+        const Vec3 relative = velocity[a] - velocity[b];
+        const Vec3 removed = relative - d * maxNum(dot(relative, d), 0.0f);
         const bool fixedA = fixed(a), fixedB = fixed(b);
-        if (approach < 0 && !fixedA && !fixedB) {
-            const float j = -approach / (1.0f / A.mass + 1.0f / B.mass);
-            velocity[a] += d * (j / A.mass);
-            velocity[b] -= d * (j / B.mass);
-        } else if (approach < 0 && fixedA != fixedB) {
-            if (fixedB) velocity[a] -= d * approach;
-            if (fixedA) velocity[b] += d * approach;
+        if (!fixedA && !fixedB) {
+            const Vec3 j = removed / (1.0f / A.mass + 1.0f / B.mass);
+            velocity[a] -= j / A.mass;
+            velocity[b] += j / B.mass;
+        } else if (fixedA != fixedB) {
+            if (fixedB) velocity[a] -= removed;
+            if (fixedA) velocity[b] += removed;
+        }
+        // Under gravity the pair is pushed apart across it, along the line of centres' part
+        // square to gravity (a pair one exactly above the other: its own direction's part).
+        // Pushed along the line itself, 200 bodies created at one spot were stacked into a heap
+        // 3-4 m high, which they rolled down at up to 5.8 m/s once apart; spread across the
+        // floor none is faster than 4.7 (docs/LIMITS.md, known problem 1).
+        Vec3 across = d;
+        if (up.x != 0 || up.y != 0 || up.z != 0) {
+            across = d - up * dot(d, up);
+            if (length(across) < 1e-3f) {
+                const Vec3 own = pairDirection(a, b);
+                across = own - up * dot(own, up);
+            }
+            across = normalize(across);
         }
         // Deeper pairs push harder (a body amid many partners is moved by the sum, bounded):
         // the weight is the bounding spheres' overlap as a share of their radii's sum.
         const float radii = A.sphereRadius + B.sphereRadius;
-        pushPair(0, a, b, d, radii > 0 ? minNum(maxNum(1.0f - len / radii, 0.05f), 1.0f) : 1.0f,
-                 1.0f);
+        pushPair(0, a, b, across,
+                 radii > 0 ? minNum(maxNum(1.0f - len / radii, 0.05f), 1.0f) : 1.0f, 1.0f);
     }
     for (uint32_t b = 0; b < n; ++b) {
         CollisionBody& r = w.bodies[b];

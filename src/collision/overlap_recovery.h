@@ -18,10 +18,11 @@
 //     bounds, interior cells included) is "whole": it finds no object contacts, which would push
 //     every node every way and only crush both, and its bodies move apart as rigid wholes along
 //     the line of their centres (a direction drawn from the pair's indices when the centres
-//     coincide), by positions only, at the recovery speed split by mass. A pair that has
-//     overlapped stays whole until neither centre is within one cell of the other's cells, so
-//     the object contacts take over shallower overlap only. The pair does not approach along
-//     that line either (one resting on the other would fall through it).
+//     coincide), under gravity along that line's part across gravity, by positions only, at
+//     the recovery speed split by mass. A pair that has overlapped stays whole until neither
+//     centre is within one cell of the other's cells, so the object contacts take over
+//     shallower overlap only. The pair moves as one but for separating along that line (one
+//     resting on the other would fall through it, or slide off it).
 //   A body's moves from its whole pairs and from its recovering pairs are each summed weighted
 //   by how deep each pair is and bounded to the recovery speed. Never down into the floor (the
 //   floor would stop the lowest cells only, and the dent would throw the body up): a body within
@@ -59,9 +60,9 @@ bool isWhole(const CollisionWorld& world, uint32_t bodyA, uint32_t bodyB);
 void settleOverlaps(CollisionWorld& world);
 
 /// After trackOverlaps, before the contacts: moves the bodies of remembered pairs apart as rigid
-/// wholes (positions, nodes and bounds): whole pairs along the line of their centres (their
-/// velocities lose the approach along it), the others, and the floor's pairs, along the way
-/// out of their last substep's contacts' overlap.
+/// wholes (positions, nodes and bounds): whole pairs along the line of their centres, across
+/// gravity (their velocities lose all relative motion but separating along that line), the
+/// others, and the floor's pairs, along the way out of their last substep's contacts' overlap.
 void pushPairsApart(CollisionWorld& world, float dt);
 
 /// Keeps the remembered pairs valid when body `dense` is removed (later ones shift down).

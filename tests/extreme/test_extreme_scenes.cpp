@@ -470,8 +470,10 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // pushed apart as whole bodies at 2 m/s until neither centre is within a cell of the other's
 // lattice, then along the way out of its contacts' overlap, by positions only
 // (docs/ALGORITHM.md, "Overlap recovery"). Criteria: every particle finite every frame; no
-// sphere ever faster than 7 m/s (measured 5.8: spheres pushed up onto the heap fall off it; the
-// recovery gave them up to 9.6 while it moved them by their contacts); after 4.5 s every pair
+// sphere ever faster than 5 m/s, as the dense-pile issue asks (measured 4.38; 3.63-4.66 over
+// the rotations of seeds 1-12 since whole pairs stick and are pushed across gravity, 2026-12-05;
+// 4.8-5.8 before, when spheres pushed up onto a heap 3-4 m high rolled off it; the recovery
+// gave them up to 9.6 while it moved them by their contacts); after 4.5 s every pair
 // forgotten by the recovery but two at most, no two centres closer than 0.9 m, no vertex inside
 // another sphere deeper than 1 cm (the mesh measure) and none more than 1 cm below the floor;
 // after 6 s every pair forgotten. (With the separation bound at 1 m/s, since 2026-11-28, the
@@ -497,7 +499,7 @@ TEST(ExtremeScenes, TwoHundredAtOneSpotSeparate) {
         whole = std::max(whole, world.profile().wholePairs);
     }
     EXPECT_EQ(whole, 200 * 199 / 2); // all at once, at first
-    EXPECT_LT(fastest, 7.0f);
+    EXPECT_LT(fastest, 5.0f);
     EXPECT_GT(closestCentres(world), 0.9f);
     EXPECT_LE(deepestInside(world), 0.01);
     EXPECT_LE(world.profile().overlapPairs, 2);
