@@ -207,6 +207,7 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         heaviest[b] = maxNum(heaviest[b], weight);
     };
     const Vec3 up = normalize(-w.settings.gravity); // zero without gravity
+    auto acrossGravity = [&](Vec3 v) { return v - up * dot(v, up); };
     for (const OverlapPair& p : s.overlaps) {
         const uint32_t a = p.a, b = p.b;
         if (!p.whole) {
@@ -252,12 +253,9 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         // 3-4 m high, which they rolled down at up to 5.8 m/s once apart; spread across the
         // floor none is faster than 4.7 (docs/LIMITS.md, known problem 1).
         Vec3 across = d;
-        if (up.x != 0 || up.y != 0 || up.z != 0) {
-            across = d - up * dot(d, up);
-            if (length(across) < 1e-3f) {
-                const Vec3 own = pairDirection(a, b);
-                across = own - up * dot(own, up);
-            }
+        if (up != Vec3{}) {
+            across = acrossGravity(d);
+            if (length(across) < 1e-3f) across = acrossGravity(pairDirection(a, b));
             across = normalize(across);
         }
         // Deeper pairs push harder (a body amid many partners is moved by the sum, bounded):
