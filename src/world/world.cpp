@@ -372,18 +372,19 @@ void requireParticle(const BodyRecord& r, uint32_t particle) {
 
 namespace {
 
-// Runs one stage and adds its time to the profile's field.
+// Runs one stage, adds its time to the profile's field and tells the observer, if any.
 template <class F>
-void timed(Profile& profile, Stage stage, F&& run) {
+void timed(WorldData& w, Stage stage, F&& run) {
     const auto start = Clock::now();
     run();
-    profile.stageMs[size_t(stage)] += msSince(start);
+    w.profile.stageMs[size_t(stage)] += msSince(start);
+    if (w.stageObserver) w.stageObserver(stage);
 }
 
 // Phase 1 in enhanced mode; the other modes pass every pair on (and spend nothing here).
 void sphereTestStage(WorldData& w, detail::CollisionWorld& view) {
     if (w.settings.mode == CollisionMode::Enhanced) {
-        timed(w.profile, Stage::SphereTest, [&] { detail::sphereTest(view); });
+        timed(w, Stage::SphereTest, [&] { detail::sphereTest(view); });
         w.profile.candidatePairs = int(w.collision.pairs.size());
     } else if (w.settings.mode != CollisionMode::None) {
         const size_t n = w.bodies.size();
@@ -413,16 +414,16 @@ void World::step() {
                 break;
             }
     }
-    timed(prof, Stage::Sleeping, [&] { detail::wakeWithinReach(w); });
+    timed(w, Stage::Sleeping, [&] { detail::wakeWithinReach(w); });
     detail::CollisionWorld view = detail::collisionView(w);
     float deepest = 0;
     for (int sub = 0; sub < w.settings.substeps; ++sub) {
-        timed(prof, Stage::Dynamics, [&] { detail::latticeDynamicsStage(w, dt); });
+        timed(w, Stage::Dynamics, [&] { detail::latticeDynamicsStage(w, dt); });
         FFD_CHECK(detail::particleProblem(w).empty(),
                   "after lattice_dynamics: " + detail::particleProblem(w));
-        timed(prof, Stage::NodeUpdate, [&] { detail::nodeUpdateStage(w, view); });
+        timed(w, Stage::NodeUpdate, [&] { detail::nodeUpdateStage(w, view); });
         FFD_CHECK(detail::nodeProblem(w).empty(), "after node_update: " + detail::nodeProblem(w));
-        timed(prof, Stage::OverlapRecovery, [&] {
+        timed(w, Stage::OverlapRecovery, [&] {
             w.collision.pairs.clear();
             detail::trackOverlaps(view);
             detail::pushPairsApart(view, dt);
@@ -430,28 +431,28 @@ void World::step() {
         sphereTestStage(w, view);
         FFD_CHECK(w.settings.mode != CollisionMode::Enhanced || detail::sphereProblem(w).empty(),
                   "after sphere_test: " + detail::sphereProblem(w));
-        timed(prof, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(view); });
-        timed(prof, Stage::FloorContacts, [&] { detail::findFloorContacts(view); });
-        timed(prof, Stage::OverlapSettling, [&] {
+        timed(w, Stage::ObjectContacts, [&] { detail::findAllObjectContacts(view); });
+        timed(w, Stage::FloorContacts, [&] { detail::findFloorContacts(view); });
+        timed(w, Stage::OverlapSettling, [&] {
             detail::settleOverlaps(view);
             prof.overlapPairs = int(w.collision.overlaps.size());
             prof.wholePairs = int(w.collision.wholePairs.size());
         });
-        timed(prof, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(view, dt); });
-        timed(prof, Stage::PositionUpdate, [&] {
+        timed(w, Stage::ResponseBeforeMove, [&] { detail::respondBeforeMove(view, dt); });
+        timed(w, Stage::PositionUpdate, [&] {
             detail::positionUpdateStage(w, dt);
             detail::pinStage(w, dt, sub, w.settings.substeps); // nothing without pins
         });
-        timed(prof, Stage::ResponseAfterMove,
+        timed(w, Stage::ResponseAfterMove,
               [&] { deepest = maxNum(deepest, detail::respondAfterMove(view, dt)); });
         detail::tallyContacts(w);
     }
     detail::finishContactTally(w);
     for (BodyRecord& r : w.bodies) r.force = {};
     std::fill(w.particleForce.begin(), w.particleForce.end(), Vec3{});
-    if (w.settings.meshUpdate) timed(prof, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
+    if (w.settings.meshUpdate) timed(w, Stage::MeshUpdate, [&] { detail::meshUpdateStage(w); });
     FFD_CHECK(detail::meshProblem(w).empty(), "after mesh_update: " + detail::meshProblem(w));
-    timed(prof, Stage::Sleeping, [&] { detail::fallAsleep(w); });
+    timed(w, Stage::Sleeping, [&] { detail::fallAsleep(w); });
     for (const uint32_t b : w.moving) { // a kinematic body moves only as far as it is sent
         const BodyRecord& r = w.bodies[b];
         std::fill(w.v.begin() + r.firstParticle, w.v.begin() + r.firstParticle + r.particleCount,

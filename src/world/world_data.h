@@ -11,6 +11,7 @@
 #include "world/pins.h"
 #include "world/query_state.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -115,6 +116,9 @@ struct WorldData {
     PinState pins;                      ///< world/pins.h
     mutable QueryCache queries;         ///< the geometric queries' caches (queries.cpp)
     ContactTally contactTally;          ///< the step's contact pairs and events
+    /// Called after each stage of a step has run (instrumentation: bench/causes'
+    /// ffdaabb_energy_stages); none by default.
+    std::function<void(Stage)> stageObserver;
 
     /// The handle of the body at dense index `dense`.
     BodyId handleOf(uint32_t dense) const {

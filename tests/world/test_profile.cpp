@@ -2,6 +2,7 @@
 // columns as sums of stages, and the docs listing every stage.
 #include "ffdaabb/profile.h"
 #include "ffdaabb/world.h"
+#include "world/world_data.h"
 
 #include "test_support.h"
 
@@ -11,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 using namespace ffd;
 using ffd::test::ball;
@@ -79,6 +81,32 @@ TEST(Profile, EveryStageIsTimedAndTheColumnsAreTheirSums) {
         columns += p.ms(c.column);
     }
     EXPECT_NEAR(columns, sum, 1e-9 * sum);
+}
+
+// The stage observer (instrumentation, bench/causes/energy_stages.cpp) is told after each stage
+// of a step, in the order they run: the frame's wake-up, each substep's ten stages, then the
+// mesh update and the frame's sleep test. Watching changes nothing.
+TEST(Profile, TheStageObserverSeesEveryStageInOrderAndChangesNothing) {
+    World watched = pile(CollisionMode::Enhanced), plain = pile(CollisionMode::Enhanced);
+    std::vector<Stage> seen;
+    detail::dataOf(watched).stageObserver = [&](Stage s) { seen.push_back(s); };
+    const std::vector<Stage> substep = {Stage::Dynamics,        Stage::NodeUpdate,
+                                        Stage::OverlapRecovery, Stage::SphereTest,
+                                        Stage::ObjectContacts,  Stage::FloorContacts,
+                                        Stage::OverlapSettling, Stage::ResponseBeforeMove,
+                                        Stage::PositionUpdate,  Stage::ResponseAfterMove};
+    std::vector<Stage> frame = {Stage::Sleeping};
+    for (int k = 0; k < watched.settings().substeps; ++k)
+        frame.insert(frame.end(), substep.begin(), substep.end());
+    frame.push_back(Stage::MeshUpdate);
+    frame.push_back(Stage::Sleeping);
+    for (int f = 0; f < 120; ++f) {
+        seen.clear();
+        watched.step();
+        plain.step();
+        ASSERT_EQ(seen, frame) << "frame " << f;
+    }
+    EXPECT_EQ(watched.stateHash(), plain.stateHash());
 }
 
 TEST(Profile, ThePreviousMethodSpendsNothingOnDistanceCalculating) {
