@@ -470,8 +470,10 @@ TEST(ExtremeScenes, CreatedOverlappingArePushedOutGently) {
 // pushed apart as whole bodies at 2 m/s until neither centre is within a cell of the other's
 // lattice, then along the way out of its contacts' overlap, by positions only
 // (docs/ALGORITHM.md, "Overlap recovery"). Criteria: every particle finite every frame; no
-// sphere ever faster than 5 m/s, as the dense-pile issue asks (measured 4.38; 3.63-4.66 over
-// the rotations of seeds 1-12 since whole pairs stick and are pushed across gravity, 2026-12-05;
+// sphere's velocity ever above 5 m/s, as the dense-pile issue asks (measured 4.38; 3.63-4.66
+// over the rotations of seeds 1-12 since whole pairs stick and are pushed across gravity,
+// 2026-12-05; their centres move by up to 6.6-7.4 m/s between frames, the recovery's moves by
+// positions on top of the velocity: docs/LIMITS.md, known problem 1;
 // 4.8-5.8 before, when spheres pushed up onto a heap 3-4 m high rolled off it; the recovery
 // gave them up to 9.6 while it moved them by their contacts); after 4.5 s every pair
 // forgotten by the recovery but two at most, no two centres closer than 0.9 m, no vertex inside
