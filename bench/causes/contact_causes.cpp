@@ -42,6 +42,7 @@
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
 #include "interpenetration.h"
+#include "util/atomic_file.h"
 #include "world/world_data.h"
 
 #include <CLI/CLI.hpp>
@@ -51,7 +52,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -166,9 +168,11 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     Scene scene;
+    std::optional<AtomicFile> jsonFile; // opened first: a bad path fails before the run
     try {
         scene = loadScene(sceneName);
         if (objects > 0) setObjectCount(scene, objects);
+        if (!jsonPath.empty()) jsonFile.emplace(jsonPath, "w");
     } catch (const std::exception& e) {
         fmt::print(stderr, "ffdaabb_contact_causes: {}\n", e.what());
         return 2;
@@ -411,16 +415,19 @@ int main(int argc, char** argv) {
         {"contacts", apart.contacts},       {"contacts_apart", apart.apartContacts},
         {"box_pairs", apart.pairs},         {"box_pairs_apart", apart.apartPairs},
         {"overlapping", apart.overlapping}, {"overlapping_apart", apart.overlappingApart}};
-    if (!jsonPath.empty()) {
-        std::ofstream out(jsonPath);
-        out << nlohmann::json{{"scene", scene.name},  {"objects", build.bodies.size()},
-                              {"frames", frames},     {"every", every},
-                              {"causes", causes},     {"meshes_apart", apartJson},
-                              {"per_frame", perFrame}}
-                   .dump(1)
-            << "\n";
-        if (!out) {
-            fmt::print(stderr, "ffdaabb_contact_causes: --json: cannot write {}\n", jsonPath);
+    if (jsonFile) {
+        const std::string text =
+            nlohmann::json{{"scene", scene.name},  {"objects", build.bodies.size()},
+                           {"frames", frames},     {"every", every},
+                           {"causes", causes},     {"meshes_apart", apartJson},
+                           {"per_frame", perFrame}}
+                .dump(1) +
+            "\n";
+        try {
+            std::fputs(text.c_str(), jsonFile->handle());
+            jsonFile->commit();
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "ffdaabb_contact_causes: --json: {}\n", e.what());
             return 2;
         }
     }

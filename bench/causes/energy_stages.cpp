@@ -18,6 +18,7 @@
 #include "ffdaabb/profile.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
+#include "util/atomic_file.h"
 #include "world/world_data.h"
 
 #include <CLI/CLI.hpp>
@@ -26,7 +27,9 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,26 +41,27 @@ struct Energies {
     double motion = 0, horizontal = 0, deformation = 0;
 };
 
+// Each body's particles' masses and their sum, which a step does not change.
+struct BodyMasses {
+    std::vector<float> particle;
+    double total = 0;
+};
+
 // The bodies' energies now (`up`: unit against gravity, or zero).
-Energies energiesOf(const World& world, const std::vector<BodyId>& bodies, Vec3 up) {
+Energies energiesOf(const World& world, const std::vector<BodyId>& bodies,
+                    const std::vector<BodyMasses>& masses, Vec3 up) {
     Energies e;
-    for (const BodyId b : bodies) {
-        const std::span<const Vec3> v = world.velocities(b);
-        double mass = 0;
-        Vec3 momentum{};
-        for (uint32_t i = 0; i < v.size(); ++i) {
-            const float m = world.particleMass(b, i);
-            mass += m;
-            momentum += v[i] * m;
-        }
-        if (!(mass > 0)) continue;
-        const Vec3 mean = momentum * float(1.0 / mass);
+    for (size_t k = 0; k < bodies.size(); ++k) {
+        const BodyMasses& m = masses[k];
+        if (!(m.total > 0)) continue;
+        const Vec3 mean = world.linearVelocity(bodies[k]); // mass-weighted
         const Vec3 across = mean - up * dot(mean, up);
-        e.motion += 0.5 * mass * double(dot(mean, mean));
-        e.horizontal += 0.5 * mass * double(dot(across, across));
-        for (uint32_t i = 0; i < v.size(); ++i) {
+        e.motion += 0.5 * m.total * double(dot(mean, mean));
+        e.horizontal += 0.5 * m.total * double(dot(across, across));
+        const std::span<const Vec3> v = world.velocities(bodies[k]);
+        for (size_t i = 0; i < v.size(); ++i) {
             const Vec3 d = v[i] - mean;
-            e.deformation += 0.5 * double(world.particleMass(b, i)) * double(dot(d, d));
+            e.deformation += 0.5 * double(m.particle[i]) * double(dot(d, d));
         }
     }
     return e;
@@ -83,9 +87,11 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     Scene scene;
+    std::optional<AtomicFile> jsonFile; // opened first: a bad path fails before the run
     try {
         scene = loadScene(sceneName);
         if (seed >= 0) scene.layout.seed = uint32_t(seed);
+        if (!jsonPath.empty()) jsonFile.emplace(jsonPath, "w");
     } catch (const std::exception& e) {
         fmt::print(stderr, "ffdaabb_energy_stages: {}\n", e.what());
         return 2;
@@ -95,11 +101,19 @@ int main(int argc, char** argv) {
     const Vec3 gravity = world.settings().gravity;
     const Vec3 up = length(gravity) > 0 ? normalize(-gravity) : Vec3{};
 
+    std::vector<BodyMasses> masses(build.bodies.size());
+    for (size_t k = 0; k < build.bodies.size(); ++k) {
+        const uint32_t count = uint32_t(world.velocities(build.bodies[k]).size());
+        for (uint32_t i = 0; i < count; ++i) {
+            masses[k].particle.push_back(world.particleMass(build.bodies[k], i));
+            masses[k].total += masses[k].particle.back();
+        }
+    }
     // Per stage, the change of each energy over the window.
     std::array<Energies, kStageCount> change{};
-    Energies last = energiesOf(world, build.bodies, up);
+    Energies last = energiesOf(world, build.bodies, masses, up);
     detail::dataOf(world).stageObserver = [&](Stage stage) {
-        const Energies now = energiesOf(world, build.bodies, up);
+        const Energies now = energiesOf(world, build.bodies, masses, up);
         Energies& c = change[size_t(stage)];
         c.motion += now.motion - last.motion;
         c.horizontal += now.horizontal - last.horizontal;
@@ -132,16 +146,18 @@ int main(int argc, char** argv) {
                            {"stages", stages}});
         change = {};
     }
-    if (!jsonPath.empty()) {
-        std::ofstream out(jsonPath);
-        out << nlohmann::json{{"scene", scene.name},
-                              {"bodies", build.bodies.size()},
-                              {"every", every},
-                              {"windows", windows}}
-                   .dump(2)
-            << "\n";
-        if (!out) {
-            fmt::print(stderr, "ffdaabb_energy_stages: --json: cannot write {}\n", jsonPath);
+    if (jsonFile) {
+        const std::string text = nlohmann::json{{"scene", scene.name},
+                                                {"bodies", build.bodies.size()},
+                                                {"every", every},
+                                                {"windows", windows}}
+                                     .dump(2) +
+                                 "\n";
+        try {
+            std::fputs(text.c_str(), jsonFile->handle());
+            jsonFile->commit();
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "ffdaabb_energy_stages: --json: {}\n", e.what());
             return 1;
         }
     }
