@@ -151,7 +151,7 @@ struct WorldSettings {
     /// cell clear of each other. Only pairs that overlapped when placed are affected, until
     /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
     /// recovery").
-    float overlapRecoverySpeed = 2.0f;
+    float overlapRecoverySpeed = 2.25f;
     /// Contacts on the bodies' rigid modes (experimental; 0: off). After the position update,
     /// before the particle-level projection, Gauss-Seidel sweeps move the bodies of each
     /// violated contact as rigid wholes, by up to this share of the violation their rigid

@@ -456,6 +456,11 @@ struct CollisionState {
     std::vector<Vec3> overlapCentre;     ///< per body, centre of mass (pairs' bodies only)
     std::vector<Vec3> overlapPush[2];    ///< per kind of pair (whole, by contacts), per body
     std::vector<float> overlapWeight[2]; ///< the same, scratch
+    /// Per body: its heap (the lowest body of it; itself when in none), the heap's bodies,
+    /// mass, centre of mass and reach from it across gravity (kept at the heap's entry).
+    std::vector<uint32_t> heapOf, heapSize;
+    std::vector<float> heapMass, heapReach;
+    std::vector<Vec3> heapCentre, heapSpread; ///< per heap; per body, its push (spreadHeaps)
     std::vector<Vec3> overlapVelocity, overlapVelocityBefore; ///< per body, scratch
     std::vector<CandidatePair> overlapScratch;
     std::vector<OverlapPair> overlapAdded, overlapMerged; ///< scratch

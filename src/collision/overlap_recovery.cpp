@@ -55,6 +55,83 @@ Vec3 pairDirection(uint32_t a, uint32_t b) {
     return {r * std::cos(phi), z, r * std::sin(phi)};
 }
 
+// Heaps: the bodies joined by whole pairs, with the bodies whose bounding spheres touch theirs
+// (phase 1's test on this substep's spheres), since those are pushed too. A heap of three or more
+// spreads as a whole: each body's push (`spread`, at most 1 long; zero outside such heaps) leads
+// away from its heap's centre of mass across gravity, as long as its distance from it over the
+// heap's reach, so the heap expands about its centre and every two of its bodies separate at once.
+// Pushed only by their pairs, the pushes inside a heap cancel, its rim is pushed into the bodies
+// beyond it, and what those contacts make of it was the heap's speed (docs/LIMITS.md, known problem
+// 1). Bodies that coincide (a heap with no reach) spread over a disc (a ball without gravity) by a
+// direction and distance drawn from the body's index. Static and kinematic bodies belong to no
+// heap.
+void spreadHeaps(CollisionWorld& w, Vec3 up, std::vector<Vec3>& spread) {
+    CollisionState& s = w.collision;
+    const uint32_t n = uint32_t(w.bodies.size());
+    spread.assign(n, Vec3{});
+    if (s.wholePairs.empty()) return;
+    std::vector<uint32_t>& heap = s.heapOf;
+    heap.resize(n);
+    for (uint32_t i = 0; i < n; ++i) heap[i] = i;
+    auto find = [&](uint32_t i) {
+        while (heap[i] != i) i = heap[i] = heap[heap[i]];
+        return i;
+    };
+    auto join = [&](uint32_t a, uint32_t b) {
+        const uint32_t x = find(a), y = find(b);
+        if (x != y) heap[std::max(x, y)] = std::min(x, y); // the lowest index is the entry
+    };
+    auto movable = [&](uint32_t i) { return !w.bodies[i].immovable || w.bodies[i].asleep; };
+    std::vector<uint32_t>& size = s.heapSize;
+    size.assign(n, 0); // here: 1 for a body in a whole pair
+    for (const OverlapPair& p : s.overlaps)
+        if (p.whole && movable(p.a) && movable(p.b)) join(p.a, p.b), size[p.a] = size[p.b] = 1;
+    std::vector<CandidatePair>& near = s.overlapScratch;
+    if (int(n) > w.settings.sweepThreshold)
+        sphereTestSweep(w, near);
+    else
+        sphereTestAllPairs(w, near);
+    for (const CandidatePair& c : near)
+        if ((size[c.a] || size[c.b]) && movable(c.a) && movable(c.b)) {
+            join(c.a, c.b);
+            for (const uint32_t i : {c.a, c.b})
+                if (std::isnan(s.overlapCentre[i].x))
+                    s.overlapCentre[i] = massWeightedMean(w.bodies[i], w.x);
+        }
+    auto acrossGravity = [&](Vec3 v) { return v - up * dot(v, up); };
+    s.heapMass.assign(n, 0.0f);
+    s.heapReach.assign(n, 0.0f);
+    s.heapCentre.assign(n, Vec3{});
+    size.assign(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+        heap[i] = find(i);
+        if (heap[i] == i && std::isnan(s.overlapCentre[i].x)) continue; // in none
+        const float m = w.bodies[i].mass;
+        s.heapMass[heap[i]] += m;
+        s.heapCentre[heap[i]] += s.overlapCentre[i] * m;
+        ++size[heap[i]];
+    }
+    for (uint32_t i = 0; i < n; ++i)
+        if (size[i] >= 3) s.heapCentre[i] = s.heapCentre[i] / s.heapMass[i];
+    for (uint32_t i = 0; i < n; ++i)
+        if (size[heap[i]] >= 3)
+            s.heapReach[heap[i]] =
+                maxNum(s.heapReach[heap[i]],
+                       length(acrossGravity(s.overlapCentre[i] - s.heapCentre[heap[i]])));
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t h = heap[i];
+        if (size[h] < 3) continue;
+        if (s.heapReach[h] > 1e-3f * w.bodies[i].sphereRadius) {
+            spread[i] = acrossGravity(s.overlapCentre[i] - s.heapCentre[h]) / s.heapReach[h];
+            continue;
+        }
+        Vec3 d = acrossGravity(pairDirection(i, i));
+        if (length(d) < 1e-3f) d = acrossGravity(pairDirection(i, i + 1));
+        const float u = 0.5f + 0.5f * pairDirection(i + 1, i).y; // uniform in [0, 1]
+        spread[i] = normalize(d) * (up == Vec3{} ? std::cbrt(u) : std::sqrt(u));
+    }
+}
+
 } // namespace
 
 void trackOverlaps(CollisionWorld& w) {
@@ -264,6 +341,8 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         pushPair(0, a, b, across,
                  radii > 0 ? minNum(maxNum(1.0f - len / radii, 0.05f), 1.0f) : 1.0f, 1.0f);
     }
+    std::vector<Vec3>& spread = s.heapSpread;
+    spreadHeaps(w, up, spread);
     for (uint32_t b = 0; b < n; ++b) {
         CollisionBody& r = w.bodies[b];
         if (r.immovable && !r.asleep) continue; // a collider is not pushed
@@ -280,7 +359,16 @@ void pushPairsApart(CollisionWorld& w, float dt) {
             Vec3 push = s.overlapPush[kind][b];
             if (floored) push.y = maxNum(push.y, 0.0f);
             const float len = length(push);
-            if (len > 0) move += push * (step / maxNum(s.overlapWeight[kind][b], len));
+            const Vec3 heapPush = kind == 0 ? spread[b] : Vec3{};
+            if (heapPush.x == 0 && heapPush.y == 0 && heapPush.z == 0) {
+                if (len > 0) move += push * (step / maxNum(s.overlapWeight[kind][b], len));
+                continue;
+            }
+            // A heap's spreading joins its whole pairs' pushes, within their bound.
+            if (len > 0) push *= 1.0f / maxNum(s.overlapWeight[kind][b], len);
+            push += heapPush;
+            if (floored) push.y = maxNum(push.y, 0.0f);
+            move += push * (step / maxNum(1.0f, length(push)));
         }
         if (move.x == 0 && move.y == 0 && move.z == 0) continue; // none, or balanced
         if (w.settings.floor && move.y < 0 &&

@@ -23,6 +23,10 @@
 //     centre is within one cell of the other's cells, so the object contacts take over
 //     shallower overlap only. The pair moves as one but for separating along that line (one
 //     resting on the other would fall through it, or slide off it).
+//   - the bodies joined by whole pairs, with those whose bounding spheres touch them, form a
+//     heap; a heap of three or more also pushes each body away from its centre of mass, across
+//     gravity, in proportion to the body's distance from it, within the whole pairs' bound, so
+//     it expands about its centre instead of pushing its rim into its neighbours.
 //   A body's moves from its whole pairs and from its recovering pairs are each summed weighted
 //   by how deep each pair is and bounded to the recovery speed. Never down into the floor (the
 //   floor would stop the lowest cells only, and the dent would throw the body up): a body within
