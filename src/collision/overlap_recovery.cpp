@@ -360,6 +360,8 @@ void pushPairsApart(CollisionWorld& w, float dt) {
             if (floored) push.y = maxNum(push.y, 0.0f);
             const float len = length(push);
             const Vec3 heapPush = kind == 0 ? spread[b] : Vec3{};
+            // Outside a heap, the arithmetic of before heaps, so such bodies move bit for bit
+            // as they did (the paper scenes' hashes hold).
             if (heapPush.x == 0 && heapPush.y == 0 && heapPush.z == 0) {
                 if (len > 0) move += push * (step / maxNum(s.overlapWeight[kind][b], len));
                 continue;
