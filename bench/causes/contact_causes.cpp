@@ -42,6 +42,7 @@
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
 #include "interpenetration.h"
+#include "json_output.h"
 #include "util/atomic_file.h"
 #include "world/world_data.h"
 
@@ -423,13 +424,7 @@ int main(int argc, char** argv) {
                            {"per_frame", perFrame}}
                 .dump(1) +
             "\n";
-        try {
-            std::fputs(text.c_str(), jsonFile->handle());
-            jsonFile->commit();
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "ffdaabb_contact_causes: --json: {}\n", e.what());
-            return 2;
-        }
+        return bench::commitJson(*jsonFile, text, "ffdaabb_contact_causes");
     }
     return 0;
 }

@@ -18,6 +18,7 @@
 #include "ffdaabb/profile.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"
+#include "json_output.h"
 #include "util/atomic_file.h"
 #include "world/world_data.h"
 
@@ -153,13 +154,7 @@ int main(int argc, char** argv) {
                                                 {"windows", windows}}
                                      .dump(2) +
                                  "\n";
-        try {
-            std::fputs(text.c_str(), jsonFile->handle());
-            jsonFile->commit();
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "ffdaabb_energy_stages: --json: {}\n", e.what());
-            return 1;
-        }
+        return bench::commitJson(*jsonFile, text, "ffdaabb_energy_stages");
     }
     return 0;
 }
