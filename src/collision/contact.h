@@ -462,7 +462,11 @@ struct CollisionState {
     std::vector<float> heapMass, heapReach;
     std::vector<Vec3> heapCentre, heapSpread; ///< per heap; per body, its push (spreadHeaps)
     std::vector<Vec3> overlapVelocity, overlapVelocityBefore; ///< per body, scratch
+    /// This substep's bounding-sphere pairs, found by trackOverlaps when bodies were just placed
+    /// (`overlapNearFound` set; nothing moves before spreadHeaps reads them) or else by
+    /// spreadHeaps itself.
     std::vector<CandidatePair> overlapScratch;
+    bool overlapNearFound = false;
     std::vector<OverlapPair> overlapAdded, overlapMerged; ///< scratch
 };
 

@@ -87,10 +87,12 @@ void spreadHeaps(CollisionWorld& w, Vec3 up, std::vector<Vec3>& spread) {
     for (const OverlapPair& p : s.overlaps)
         if (p.whole && movable(p.a) && movable(p.b)) join(p.a, p.b), size[p.a] = size[p.b] = 1;
     std::vector<CandidatePair>& near = s.overlapScratch;
-    if (int(n) > w.settings.sweepThreshold)
-        sphereTestSweep(w, near);
-    else
-        sphereTestAllPairs(w, near);
+    if (!s.overlapNearFound) { // else trackOverlaps found them on these very spheres
+        if (int(n) > w.settings.sweepThreshold)
+            sphereTestSweep(w, near);
+        else
+            sphereTestAllPairs(w, near);
+    }
     for (const CandidatePair& c : near)
         if ((size[c.a] || size[c.b]) && movable(c.a) && movable(c.b)) {
             join(c.a, c.b);
@@ -137,6 +139,7 @@ void spreadHeaps(CollisionWorld& w, Vec3 up, std::vector<Vec3>& spread) {
 void trackOverlaps(CollisionWorld& w) {
     CollisionState& s = w.collision;
     s.wholePairs.clear();
+    s.overlapNearFound = false;
     bool placed = false;
     for (const CollisionBody& r : w.bodies) placed |= r.placed;
     if (!placed && s.overlaps.empty()) return;
@@ -152,6 +155,7 @@ void trackOverlaps(CollisionWorld& w) {
             sphereTestSweep(w, found);
         else
             sphereTestAllPairs(w, found);
+        s.overlapNearFound = true;
         std::vector<OverlapPair>& added = s.overlapAdded;
         added.clear();
         for (const CandidatePair& p : found)
