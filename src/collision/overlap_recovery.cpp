@@ -87,12 +87,7 @@ void spreadHeaps(CollisionWorld& w, Vec3 up, std::vector<Vec3>& spread) {
     for (const OverlapPair& p : s.overlaps)
         if (p.whole && movable(p.a) && movable(p.b)) join(p.a, p.b), size[p.a] = size[p.b] = 1;
     std::vector<CandidatePair>& near = s.overlapScratch;
-    if (!s.overlapNearFound) { // else trackOverlaps found them on these very spheres
-        if (int(n) > w.settings.sweepThreshold)
-            sphereTestSweep(w, near);
-        else
-            sphereTestAllPairs(w, near);
-    }
+    if (!s.overlapNearFound) sphereTestPairs(w, near); // else trackOverlaps found them
     for (const CandidatePair& c : near)
         if ((size[c.a] || size[c.b]) && movable(c.a) && movable(c.b)) {
             join(c.a, c.b);
@@ -151,11 +146,8 @@ void trackOverlaps(CollisionWorld& w) {
     computeSpheres(w);
     if (placed) {
         std::vector<CandidatePair>& found = s.overlapScratch;
-        if (int(w.bodies.size()) > w.settings.sweepThreshold)
-            sphereTestSweep(w, found);
-        else
-            sphereTestAllPairs(w, found);
-        s.overlapNearFound = true;
+        sphereTestPairs(w, found);
+        s.overlapNearFound = true; // spreadHeaps reads them: nothing moves in between
         std::vector<OverlapPair>& added = s.overlapAdded;
         added.clear();
         for (const CandidatePair& p : found)

@@ -41,6 +41,10 @@ void computeSphere(CollisionWorld& world, size_t body);
 /// overlap recovery. Fills world.collision.pairs.
 void sphereTest(CollisionWorld& world);
 
+/// The pairs of bodies whose bounding spheres overlap (on the spheres as they are), into `out`:
+/// by brute force up to settings.sweepThreshold bodies, by sort and sweep above (sphereTest's
+/// pairs before the whole pairs are taken out).
+void sphereTestPairs(CollisionWorld& world, std::vector<CandidatePair>& out);
 /// Candidate pairs by brute force over all pairs (for tests of the sweep).
 void sphereTestAllPairs(CollisionWorld& world, std::vector<CandidatePair>& out);
 void sphereTestSweep(CollisionWorld& world, std::vector<CandidatePair>& out);

@@ -114,13 +114,17 @@ void computeSpheres(CollisionWorld& w) {
     });
 }
 
+void sphereTestPairs(CollisionWorld& w, std::vector<CandidatePair>& out) {
+    if (int(w.bodies.size()) > w.settings.sweepThreshold)
+        sphereTestSweep(w, out);
+    else
+        sphereTestAllPairs(w, out);
+}
+
 void sphereTest(CollisionWorld& w) {
     computeSpheres(w);
     CollisionState& s = w.collision;
-    if (int(w.bodies.size()) > w.settings.sweepThreshold)
-        sphereTestSweep(w, s.pairs);
-    else
-        sphereTestAllPairs(w, s.pairs);
+    sphereTestPairs(w, s.pairs);
     // Pairs placed one inside the other find no object contacts (overlap_recovery.h).
     if (!s.wholePairs.empty())
         std::erase_if(s.pairs, [&](const CandidatePair& p) { return isWhole(w, p.a, p.b); });
