@@ -112,7 +112,8 @@ struct ModeResult {
     int threads = 1;
     std::vector<Timings> frameMs;
     double mean[kTimingCount] = {}, median[kTimingCount] = {};
-    double candidatePairs = 0, potentialPairs = 0, contacts = 0, maxContactDepth = 0;
+    double candidatePairs = 0, potentialPairs = 0, boxPairs = 0, contactBoxPairs = 0, contacts = 0,
+           maxContactDepth = 0;
     uint64_t hash = 0;
     bool finite = true;
     double fps() const { return mean[kTotalTiming] > 0 ? 1000.0 / mean[kTotalTiming] : 0; }
@@ -140,6 +141,8 @@ void summarise(ModeResult& m, int frames) {
     summariseStages(m.frameMs, m.mean, m.median);
     m.candidatePairs /= std::max(1, frames);
     m.potentialPairs /= std::max(1, frames);
+    m.boxPairs /= std::max(1, frames);
+    m.contactBoxPairs /= std::max(1, frames);
     m.contacts /= std::max(1, frames);
 }
 
@@ -148,6 +151,8 @@ void record(ModeResult& m, const World& w) {
     m.frameMs.push_back(timings(p));
     m.candidatePairs += p.candidatePairs;
     m.potentialPairs += p.potentialPairs;
+    m.boxPairs += p.boxPairs;
+    m.contactBoxPairs += p.contactBoxPairs;
     m.contacts += p.contacts;
     m.maxContactDepth = std::max(m.maxContactDepth, double(p.maxContactDepth));
 }
@@ -486,6 +491,8 @@ int run(const BenchFlags& flags) {
             mj["threads"] = m.threads;
             mj["candidate_pairs"] = m.candidatePairs;
             mj["potential_pairs"] = m.potentialPairs;
+            mj["box_pairs"] = m.boxPairs;
+            mj["contact_box_pairs"] = m.contactBoxPairs;
             mj["contacts"] = m.contacts;
             mj["max_contact_depth"] = m.maxContactDepth;
             mj["state_hash"] = hashText(m.hash);

@@ -126,9 +126,11 @@ int run(const RunCommandOptions& o) {
     fmt::print("  {:<22} {:>10.3f} {:>10.3f}\n", "total", r.meanMs[kTotalTiming],
                r.medianMs[kTotalTiming]);
     fmt::print("  frames per second  {:.1f}\n", r.framesPerSecond());
-    fmt::print("  per frame (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
-               "{:.1f} object contacts, {:.1f} floor contacts\n",
-               r.candidatePairs, r.potentialPairs, r.contacts, r.floorContacts);
+    fmt::print("  a substep (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
+               "{:.0f} box pairs tested ({:.0f} with contacts), {:.1f} object contacts, {:.1f} "
+               "floor contacts (each frame's last substep)\n",
+               r.candidatePairs, r.potentialPairs, r.boxPairs, r.contactBoxPairs, r.contacts,
+               r.floorContacts);
     fmt::print("  sleeping           {:.1f} bodies asleep per frame (mean), {} of {} at the end\n",
                r.sleepingBodies, r.sleepingAtEnd, r.objects);
     if (r.measureSamples > 0) {

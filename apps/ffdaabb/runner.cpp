@@ -128,6 +128,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
             r.frameMs.push_back(timings(p));
             r.candidatePairs += p.candidatePairs;
             r.potentialPairs += p.potentialPairs;
+            r.boxPairs += p.boxPairs;
+            r.contactBoxPairs += p.contactBoxPairs;
             r.contacts += p.contacts;
             r.floorContacts += p.floorContacts;
             r.sleepingBodies += p.sleepingBodies;
@@ -138,6 +140,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double n = std::max(1, options.frames);
     r.candidatePairs /= n, r.potentialPairs /= n, r.contacts /= n, r.floorContacts /= n;
+    r.boxPairs /= n, r.contactBoxPairs /= n;
     r.sleepingBodies /= n;
     r.sleepingAtEnd = build.world.profile().sleepingBodies;
     summariseStages(r.frameMs, r.meanMs, r.medianMs);
@@ -195,6 +198,8 @@ nlohmann::json statsJson(const RunResult& r) {
             {"frames_per_second", r.framesPerSecond()},
             {"candidate_pairs", r.candidatePairs},
             {"potential_pairs", r.potentialPairs},
+            {"box_pairs", r.boxPairs},
+            {"contact_box_pairs", r.contactBoxPairs},
             {"contacts", r.contacts},
             {"floor_contacts", r.floorContacts},
             {"sleeping_bodies", r.sleepingBodies},

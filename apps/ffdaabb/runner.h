@@ -76,7 +76,9 @@ struct RunResult {
     double buildMs = 0, wallSeconds = 0;
     std::vector<Timings> frameMs; ///< per timed frame
     double meanMs[kTimingCount] = {}, medianMs[kTimingCount] = {};
-    double candidatePairs = 0, potentialPairs = 0, contacts = 0, floorContacts = 0; ///< means
+    /// Means over the timed frames of each frame's last substep's counts (Profile).
+    double candidatePairs = 0, potentialPairs = 0, boxPairs = 0, contactBoxPairs = 0, contacts = 0,
+           floorContacts = 0;
     double sleepingBodies = 0;  ///< mean over the timed frames (WorldSettings::sleepSpeed)
     int sleepingAtEnd = 0;      ///< after the last frame
     double maxContactDepth = 0; ///< the pipeline's deepest contact violation (Profile)

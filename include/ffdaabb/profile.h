@@ -78,11 +78,15 @@ struct Profile {
 
     int candidatePairs = 0; ///< object pairs passed to the spatial hash (last substep)
     int potentialPairs = 0; ///< node/box pairs tested in the narrow phase (last substep)
-    int contacts = 0;       ///< object contacts (last substep)
-    int floorContacts = 0;  ///< floor contacts (last substep)
-    int overlapPairs = 0;   ///< pairs placed overlapping and not yet apart (last substep)
-    int wholePairs = 0;     ///< of those, pushed apart as whole bodies (last substep)
-    int sleepingBodies = 0; ///< bodies asleep at the end of the frame
+    /// Box pairs that phase 3 tested, each once (separating axes on their face planes): the
+    /// pairs of boxes that those node/box tests found within a margin (last substep).
+    int boxPairs = 0;
+    int contactBoxPairs = 0; ///< of those, the pairs that gave a contact (last substep)
+    int contacts = 0;        ///< object contacts (last substep)
+    int floorContacts = 0;   ///< floor contacts (last substep)
+    int overlapPairs = 0;    ///< pairs placed overlapping and not yet apart (last substep)
+    int wholePairs = 0;      ///< of those, pushed apart as whole bodies (last substep)
+    int sleepingBodies = 0;  ///< bodies asleep at the end of the frame
     /// Deepest contact violation left after the response (a box node inside another object's
     /// cell box or below the floor), metres, over the frame's substeps: the pipeline's own
     /// measure, not the meshes' (a node inside a box need not be a vertex inside a mesh, nor

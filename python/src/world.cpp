@@ -68,6 +68,8 @@ py::dict profileDict(const World& world) {
     d["table1_ms"] = columns;
     d["candidate_pairs"] = p.candidatePairs;
     d["potential_pairs"] = p.potentialPairs;
+    d["box_pairs"] = p.boxPairs;
+    d["contact_box_pairs"] = p.contactBoxPairs;
     d["contacts"] = p.contacts;
     d["floor_contacts"] = p.floorContacts;
     d["overlap_pairs"] = p.overlapPairs;
@@ -647,8 +649,9 @@ void bindWorld(py::module_& m) {
     cls.def_property_readonly(
         "profile", [](const py::object& self) { return profileDict(idle(self).world); },
         "The last frame's stage timings and counters, under the command line's JSON names: "
-        "stage_ms, table1_ms (each with 'total'), candidate_pairs, potential_pairs, contacts, "
-        "floor_contacts, overlap_pairs, whole_pairs, sleeping_bodies, max_contact_depth.");
+        "stage_ms, table1_ms (each with 'total'), candidate_pairs, potential_pairs, box_pairs, "
+        "contact_box_pairs, contacts, floor_contacts, overlap_pairs, whole_pairs, "
+        "sleeping_bodies, max_contact_depth.");
     cls.def(
         "interpenetration",
         [](const py::object& self, std::optional<float> referenceSize) {

@@ -55,9 +55,12 @@ def test_the_profile_has_the_command_lines_names():
     assert list(p["stage_ms"]) == ffdaabb.stages() + ["total"]
     assert {"object_collision", "total"} <= set(p["table1_ms"])
     assert p["stage_ms"]["total"] > 0 and p["frame"] == 30
-    for key in ("candidate_pairs", "potential_pairs", "contacts", "floor_contacts",
-                "sleeping_bodies", "max_contact_depth"):
+    for key in ("candidate_pairs", "potential_pairs", "box_pairs", "contact_box_pairs",
+                "contacts", "floor_contacts", "sleeping_bodies", "max_contact_depth"):
         assert key in p
+    # Each box pair phase 3 tests was named by a node/box pair, and gives at most eight points.
+    assert p["contact_box_pairs"] <= p["box_pairs"] <= p["potential_pairs"]
+    assert p["contacts"] <= 8 * p["contact_box_pairs"]
 
 
 def test_input_errors_carry_the_command_lines_message(cli, tmp_path):

@@ -408,6 +408,7 @@ struct CollisionState {
     struct PairChunk {
         ContactList contacts;
         std::vector<BoxPairClaim> claims;
+        int touching = 0; ///< pairs that gave a contact
     };
     std::vector<PairChunk> pairChunks;
     std::vector<uint32_t> planeBoxes; ///< the boxes whose planes this substep's pairs use

@@ -77,11 +77,12 @@ Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA
 
 // Tests the box pairs `keys` (sorted), each once: its manifold's points become contacts, and
 // what the pair may claim (from the last substep's claims) a claim, appended to `contacts` and
-// `claims`.
-void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactList& contacts,
-               std::vector<BoxPairClaim>& claims) {
+// `claims`; returns how many pairs gave a contact.
+int emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactList& contacts,
+              std::vector<BoxPairClaim>& claims) {
     const CollisionState& s = w.collision;
-    if (keys.empty()) return;
+    int touching = 0;
+    if (keys.empty()) return touching;
     // Into the last substep's claims, sorted like keys.
     size_t last =
         size_t(std::lower_bound(s.claims.begin(), s.claims.end(), keys.front(),
@@ -163,7 +164,9 @@ void emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactL
         for (size_t n = first; n < contacts.size(); ++n)
             contacts[n].tolerated =
                 minNum(contacts[n].tolerated, minNum(0.0f, contacts[n].distance + allowed));
+        touching += contacts.size() > first;
     }
+    return touching;
 }
 
 // The bits a box index needs (at least 1).
@@ -271,9 +274,9 @@ void sortContacts(const CollisionWorld& w, std::span<const std::span<const Conta
 } // namespace
 
 void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
-                        int& outPotential) {
+                        ObjectContactCounts& counts) {
     out.clear();
-    outPotential = 0;
+    counts = {};
     CollisionState& s = w.collision;
     const uint32_t n = uint32_t(w.bodies.size());
     s.nextClaims.clear();
@@ -320,7 +323,7 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
             const size_t middle = keys.size();
             keys.insert(keys.end(), q.keys.begin(), q.keys.end());
             std::inplace_merge(keys.begin(), keys.begin() + ptrdiff_t(middle), keys.end());
-            outPotential += q.potential;
+            counts.nodeBoxPairs += q.potential;
         }
         keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
         // The planes of every box in a pair, each built once.
@@ -338,8 +341,9 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
             }
         });
         s.sortSpans.clear();
+        counts.boxPairs = int(keys.size());
         if (slots == 1) { // in place
-            emitPairs(w, keys, out, s.nextClaims);
+            counts.contactBoxPairs = emitPairs(w, keys, out, s.nextClaims);
             s.sortSpans.push_back(out);
             return;
         }
@@ -350,10 +354,12 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
             CollisionState::PairChunk& chunk = s.pairChunks[first / kPairsPerChunk];
             chunk.contacts.clear();
             chunk.claims.clear();
-            emitPairs(w, std::span(keys).subspan(first, end - first), chunk.contacts, chunk.claims);
+            chunk.touching = emitPairs(w, std::span(keys).subspan(first, end - first),
+                                       chunk.contacts, chunk.claims);
         });
         for (size_t c = 0; c < chunks; ++c) {
             const CollisionState::PairChunk& chunk = s.pairChunks[c];
+            counts.contactBoxPairs += chunk.touching;
             s.sortSpans.push_back(chunk.contacts);
             s.nextClaims.insert(s.nextClaims.end(), chunk.claims.begin(), chunk.claims.end());
         }
@@ -599,7 +605,11 @@ void sortBoxPairKeys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch
 
 void findAllObjectContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
-    findObjectContacts(w, w.settings.mode, s.all, w.profile.potentialPairs);
+    ObjectContactCounts counts;
+    findObjectContacts(w, w.settings.mode, s.all, counts);
+    w.profile.potentialPairs = counts.nodeBoxPairs;
+    w.profile.boxPairs = counts.boxPairs;
+    w.profile.contactBoxPairs = counts.contactBoxPairs;
     std::swap(s.claims, s.nextClaims);
     s.objectCount = s.all.size();
     w.profile.contacts = int(s.objectCount);

@@ -54,10 +54,18 @@ void sphereTestSweep(CollisionWorld& world, std::vector<CandidatePair>& out);
 /// world.collision.all after the object contacts (findAllObjectContacts runs first).
 void findFloorContacts(CollisionWorld& world);
 
+/// What phases 2-3 tested: node/box pairs (phase 2), the box pairs they named (phase 3, each
+/// tested once) and, of those, the pairs that gave a contact.
+struct ObjectContactCounts {
+    int nodeBoxPairs = 0;
+    int boxPairs = 0;
+    int contactBoxPairs = 0;
+};
+
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
-/// with the contacts in canonical order; counts node/box pairs tested.
+/// with the contacts in canonical order, and `counts`.
 void findObjectContacts(CollisionWorld& world, CollisionMode mode, ContactList& out,
-                        int& outPotentialPairs);
+                        ObjectContactCounts& counts);
 
 /// object_collision: findObjectContacts into world.collision.all, which findFloorContacts then
 /// completes with the floor's: both are solved together so that piles and the floor push each

@@ -212,7 +212,8 @@ void Viewer::Impl::ui() {
     }
     profilePlot();
     const Profile& p = world->profile();
-    ImGui::Text("candidate pairs %d   potential pairs %d", p.candidatePairs, p.potentialPairs);
+    ImGui::Text("candidate pairs %d   node/box pairs %d   box pairs %d (%d with contacts)",
+                p.candidatePairs, p.potentialPairs, p.boxPairs, p.contactBoxPairs);
     ImGui::Text("contacts %d   floor contacts %d", p.contacts, p.floorContacts);
     if (p.overlapPairs > 0)
         ImGui::Text("placed overlapping %d   pushed apart whole %d", p.overlapPairs, p.wholePairs);

@@ -688,9 +688,9 @@ contactSet(detail::WorldData& w, CollisionMode mode, int* testedPairs = nullptr)
     w.collision.pairs.clear();
     if (mode == CollisionMode::Enhanced) detail::sphereTest(view);
     detail::ContactList contacts;
-    int potential = 0;
-    detail::findObjectContacts(view, mode, contacts, potential);
-    if (testedPairs) *testedPairs = potential;
+    detail::ObjectContactCounts counts;
+    detail::findObjectContacts(view, mode, contacts, counts);
+    if (testedPairs) *testedPairs = counts.nodeBoxPairs;
     std::vector<detail::ZoneCell> cells;
     detail::zoneCells(view, cells);
     int32_t i0, k0;

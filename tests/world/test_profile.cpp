@@ -19,9 +19,10 @@ using ffd::test::ball;
 
 namespace {
 
-World pile(CollisionMode mode) {
+World pile(CollisionMode mode, int threads = 1) {
     WorldSettings ws;
     ws.mode = mode;
+    ws.threads = threads;
     World world(ws);
     BodySettings s;
     s.lattice.targetCells = 38;
@@ -81,6 +82,32 @@ TEST(Profile, EveryStageIsTimedAndTheColumnsAreTheirSums) {
         columns += p.ms(c.column);
     }
     EXPECT_NEAR(columns, sum, 1e-9 * sum);
+}
+
+// Phase 3's counts: each box pair it tests was named by at least one node/box pair, a pair
+// gives at most eight points (four of the clipped face, four beside its sides), and the counts
+// are the same in every mode (phase 1 removes only pairs that cannot touch) and on two threads
+// (their chunks of pairs summed).
+TEST(Profile, BoxPairCountsBoundTheContactsAndAgreeAcrossModesAndThreads) {
+    World enhanced = pile(CollisionMode::Enhanced), previous = pile(CollisionMode::Previous),
+          threaded = pile(CollisionMode::Enhanced, 2);
+    int framesWithContacts = 0;
+    for (int f = 0; f < 240; ++f) {
+        enhanced.step();
+        previous.step();
+        threaded.step();
+        const Profile& p = enhanced.profile();
+        ASSERT_LE(p.boxPairs, p.potentialPairs) << "frame " << f;
+        ASSERT_LE(p.contactBoxPairs, p.boxPairs) << "frame " << f;
+        ASSERT_LE(p.contacts, 8 * p.contactBoxPairs) << "frame " << f;
+        ASSERT_EQ(p.contacts > 0, p.contactBoxPairs > 0) << "frame " << f;
+        for (const World* other : {&previous, &threaded}) {
+            ASSERT_EQ(other->profile().boxPairs, p.boxPairs) << "frame " << f;
+            ASSERT_EQ(other->profile().contactBoxPairs, p.contactBoxPairs) << "frame " << f;
+        }
+        framesWithContacts += p.contacts > 0;
+    }
+    EXPECT_GT(framesWithContacts, 60); // the balls land on each other
 }
 
 // The stage observer (instrumentation, bench/causes/energy_stages.cpp) is told after each stage
