@@ -112,8 +112,7 @@ struct ModeResult {
     int threads = 1;
     std::vector<Timings> frameMs;
     double mean[kTimingCount] = {}, median[kTimingCount] = {};
-    double candidatePairs = 0, potentialPairs = 0, boxPairs = 0, contactBoxPairs = 0, contacts = 0,
-           maxContactDepth = 0;
+    ProfileCounts counts; ///< means over the timed frames (runner.h)
     uint64_t hash = 0;
     bool finite = true;
     double fps() const { return mean[kTotalTiming] > 0 ? 1000.0 / mean[kTotalTiming] : 0; }
@@ -137,24 +136,15 @@ struct SceneResult {
     }
 };
 
-void summarise(ModeResult& m, int frames) {
+void summarise(ModeResult& m) {
     summariseStages(m.frameMs, m.mean, m.median);
-    m.candidatePairs /= std::max(1, frames);
-    m.potentialPairs /= std::max(1, frames);
-    m.boxPairs /= std::max(1, frames);
-    m.contactBoxPairs /= std::max(1, frames);
-    m.contacts /= std::max(1, frames);
+    m.counts.average();
 }
 
 void record(ModeResult& m, const World& w) {
     const Profile& p = w.profile();
     m.frameMs.push_back(timings(p));
-    m.candidatePairs += p.candidatePairs;
-    m.potentialPairs += p.potentialPairs;
-    m.boxPairs += p.boxPairs;
-    m.contactBoxPairs += p.contactBoxPairs;
-    m.contacts += p.contacts;
-    m.maxContactDepth = std::max(m.maxContactDepth, double(p.maxContactDepth));
+    m.counts.add(p);
 }
 
 SceneResult benchScene(const std::string& name, const BenchOptions& o, int index, int count) {
@@ -197,7 +187,7 @@ SceneResult benchScene(const std::string& name, const BenchOptions& o, int index
     for (int i = 0; i < 2; ++i) {
         const SceneBuild& s = i == 0 ? a : b;
         ModeResult& m = r.modes[size_t(i)];
-        summarise(m, o.frames);
+        summarise(m);
         m.hash = s.world.stateHash();
         for (BodyId id : s.bodies)
             for (const Vec3& p : s.world.particles(id)) m.finite &= isFinite(p);
@@ -489,12 +479,7 @@ int run(const BenchFlags& flags) {
             mj["table1_ms_median"] = tableColumnsJson(m.median);
             mj["frames_per_second"] = m.fps();
             mj["threads"] = m.threads;
-            mj["candidate_pairs"] = m.candidatePairs;
-            mj["potential_pairs"] = m.potentialPairs;
-            mj["box_pairs"] = m.boxPairs;
-            mj["contact_box_pairs"] = m.contactBoxPairs;
-            mj["contacts"] = m.contacts;
-            mj["max_contact_depth"] = m.maxContactDepth;
+            m.counts.toJson(mj);
             mj["state_hash"] = hashText(m.hash);
             mj["finite"] = m.finite;
             j[m.mode] = mj;

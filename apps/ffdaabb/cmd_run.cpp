@@ -129,10 +129,10 @@ int run(const RunCommandOptions& o) {
     fmt::print("  a substep (mean)   {:.1f} candidate object pairs, {:.0f} node/box pairs tested, "
                "{:.0f} box pairs tested ({:.0f} with contacts), {:.1f} object contacts, {:.1f} "
                "floor contacts (each frame's last substep)\n",
-               r.candidatePairs, r.potentialPairs, r.boxPairs, r.contactBoxPairs, r.contacts,
-               r.floorContacts);
+               r.counts.candidatePairs, r.counts.potentialPairs, r.counts.boxPairs,
+               r.counts.contactBoxPairs, r.counts.contacts, r.counts.floorContacts);
     fmt::print("  sleeping           {:.1f} bodies asleep per frame (mean), {} of {} at the end\n",
-               r.sleepingBodies, r.sleepingAtEnd, r.objects);
+               r.counts.sleepingBodies, r.sleepingAtEnd, r.objects);
     if (r.measureSamples > 0) {
         const bench::Interpenetration& p = r.interpenetration;
         const std::string which =
@@ -147,7 +147,7 @@ int run(const RunCommandOptions& o) {
             p.deepVertices, r.measureSamples, r.measureEvery);
     }
     fmt::print("  deepest contact    {:.4f} m (the pipeline's node in a box, after the response)\n",
-               r.maxContactDepth);
+               r.counts.maxContactDepth);
     fmt::print("  state hash         {:016x}   finite: {}\n", r.stateHash, r.finite ? "yes" : "NO");
     if (!o.stats.empty()) fmt::print("  stats written to   {}\n", o.stats);
     if (!o.exportObj.empty()) fmt::print("  meshes written to  {}\n", o.exportObj);

@@ -126,22 +126,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
         if (f >= options.warmup) {
             const Profile& p = build.world.profile();
             r.frameMs.push_back(timings(p));
-            r.candidatePairs += p.candidatePairs;
-            r.potentialPairs += p.potentialPairs;
-            r.boxPairs += p.boxPairs;
-            r.contactBoxPairs += p.contactBoxPairs;
-            r.contacts += p.contacts;
-            r.floorContacts += p.floorContacts;
-            r.sleepingBodies += p.sleepingBodies;
-            r.maxContactDepth = std::max(r.maxContactDepth, double(p.maxContactDepth));
+            r.counts.add(p);
         }
         if (options.progress) options.progress(f + 1, total);
     }
     r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double n = std::max(1, options.frames);
-    r.candidatePairs /= n, r.potentialPairs /= n, r.contacts /= n, r.floorContacts /= n;
-    r.boxPairs /= n, r.contactBoxPairs /= n;
-    r.sleepingBodies /= n;
+    r.counts.average();
     r.sleepingAtEnd = build.world.profile().sleepingBodies;
     summariseStages(r.frameMs, r.meanMs, r.medianMs);
     r.stateHash = build.world.stateHash();
@@ -151,6 +141,36 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
     }
     if (atEnd) atEnd(build);
     return r;
+}
+
+void ProfileCounts::add(const Profile& p) {
+    candidatePairs += p.candidatePairs;
+    potentialPairs += p.potentialPairs;
+    boxPairs += p.boxPairs;
+    contactBoxPairs += p.contactBoxPairs;
+    contacts += p.contacts;
+    floorContacts += p.floorContacts;
+    sleepingBodies += p.sleepingBodies;
+    maxContactDepth = std::max(maxContactDepth, double(p.maxContactDepth));
+    ++frames;
+}
+
+void ProfileCounts::average() {
+    if (frames == 0) return;
+    for (double* sum : {&candidatePairs, &potentialPairs, &boxPairs, &contactBoxPairs, &contacts,
+                        &floorContacts, &sleepingBodies})
+        *sum /= frames;
+}
+
+void ProfileCounts::toJson(nlohmann::json& j) const {
+    j["candidate_pairs"] = candidatePairs;
+    j["potential_pairs"] = potentialPairs;
+    j["box_pairs"] = boxPairs;
+    j["contact_box_pairs"] = contactBoxPairs;
+    j["contacts"] = contacts;
+    j["floor_contacts"] = floorContacts;
+    j["sleeping_bodies"] = sleepingBodies;
+    j["max_contact_depth"] = maxContactDepth;
 }
 
 nlohmann::json interpenetrationJson(const RunResult& r) {
@@ -175,41 +195,35 @@ nlohmann::json interpenetrationJson(const RunResult& r) {
 nlohmann::json statsJson(const RunResult& r) {
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.stateHash));
-    return {{"scene", r.scene},
-            {"mode", r.mode},
-            {"objects", r.objects},
-            {"vertices", r.vertices},
-            {"triangles", r.triangles},
-            {"cells", r.cells},
-            {"particles", r.particles},
-            {"box_nodes", r.nodes},
-            {"vertices_per_object", double(r.vertices) / std::max(1, r.objects)},
-            {"triangles_per_object", double(r.triangles) / std::max(1, r.objects)},
-            {"cells_per_object", double(r.cells) / std::max(1, r.objects)},
-            {"frames", r.frames},
-            {"warmup_frames", r.warmup},
-            {"start_frame", r.startFrame},
-            {"threads", r.threads},
-            {"seed", r.seed},
-            {"stage_ms", stagesJson(r.meanMs)},
-            {"stage_ms_median", stagesJson(r.medianMs)},
-            {"table1_ms", tableColumnsJson(r.meanMs)},
-            {"table1_ms_median", tableColumnsJson(r.medianMs)},
-            {"frames_per_second", r.framesPerSecond()},
-            {"candidate_pairs", r.candidatePairs},
-            {"potential_pairs", r.potentialPairs},
-            {"box_pairs", r.boxPairs},
-            {"contact_box_pairs", r.contactBoxPairs},
-            {"contacts", r.contacts},
-            {"floor_contacts", r.floorContacts},
-            {"sleeping_bodies", r.sleepingBodies},
-            {"sleeping_bodies_at_end", r.sleepingAtEnd},
-            {"max_contact_depth", r.maxContactDepth},
-            {"interpenetration", interpenetrationJson(r)},
-            {"state_hash", hash},
-            {"finite", r.finite},
-            {"build_ms", r.buildMs},
-            {"wall_seconds", r.wallSeconds}};
+    nlohmann::json j = {{"scene", r.scene},
+                        {"mode", r.mode},
+                        {"objects", r.objects},
+                        {"vertices", r.vertices},
+                        {"triangles", r.triangles},
+                        {"cells", r.cells},
+                        {"particles", r.particles},
+                        {"box_nodes", r.nodes},
+                        {"vertices_per_object", double(r.vertices) / std::max(1, r.objects)},
+                        {"triangles_per_object", double(r.triangles) / std::max(1, r.objects)},
+                        {"cells_per_object", double(r.cells) / std::max(1, r.objects)},
+                        {"frames", r.frames},
+                        {"warmup_frames", r.warmup},
+                        {"start_frame", r.startFrame},
+                        {"threads", r.threads},
+                        {"seed", r.seed},
+                        {"stage_ms", stagesJson(r.meanMs)},
+                        {"stage_ms_median", stagesJson(r.medianMs)},
+                        {"table1_ms", tableColumnsJson(r.meanMs)},
+                        {"table1_ms_median", tableColumnsJson(r.medianMs)},
+                        {"frames_per_second", r.framesPerSecond()},
+                        {"sleeping_bodies_at_end", r.sleepingAtEnd},
+                        {"interpenetration", interpenetrationJson(r)},
+                        {"state_hash", hash},
+                        {"finite", r.finite},
+                        {"build_ms", r.buildMs},
+                        {"wall_seconds", r.wallSeconds}};
+    r.counts.toJson(j);
+    return j;
 }
 
 void writeTextFile(const std::string& path, const std::string& text) {

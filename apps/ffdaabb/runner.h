@@ -67,6 +67,21 @@ struct RunOptions {
     int measureEvery = 0;
 };
 
+/// The profile's counts (Profile), summed over the timed frames by add and turned into means
+/// over them by average: the one summary behind `run`'s and `bench`'s counts. Each frame
+/// contributes its last substep's counts; maxContactDepth keeps the deepest instead.
+struct ProfileCounts {
+    double candidatePairs = 0, potentialPairs = 0, boxPairs = 0, contactBoxPairs = 0, contacts = 0,
+           floorContacts = 0, sleepingBodies = 0;
+    double maxContactDepth = 0; ///< the pipeline's deepest contact violation over the frames
+    int frames = 0;             ///< frames added
+    void add(const Profile& p);
+    /// The sums divided by the frames added (left as they are when none were).
+    void average();
+    /// Adds the counts to `j` under the --stats and summary.json names.
+    void toJson(nlohmann::json& j) const;
+};
+
 struct RunResult {
     std::string scene, mode;
     int objects = 0, frames = 0, warmup = 0, threads = 1;
@@ -76,12 +91,10 @@ struct RunResult {
     double buildMs = 0, wallSeconds = 0;
     std::vector<Timings> frameMs; ///< per timed frame
     double meanMs[kTimingCount] = {}, medianMs[kTimingCount] = {};
-    /// Means over the timed frames of each frame's last substep's counts (Profile).
-    double candidatePairs = 0, potentialPairs = 0, boxPairs = 0, contactBoxPairs = 0, contacts = 0,
-           floorContacts = 0;
-    double sleepingBodies = 0;  ///< mean over the timed frames (WorldSettings::sleepSpeed)
-    int sleepingAtEnd = 0;      ///< after the last frame
-    double maxContactDepth = 0; ///< the pipeline's deepest contact violation (Profile)
+    /// Means over the timed frames of each frame's last substep's counts, sleeping bodies
+    /// (WorldSettings::sleepSpeed) included, and the deepest contact violation.
+    ProfileCounts counts;
+    int sleepingAtEnd = 0; ///< after the last frame
     /// The meshes' interpenetration: the worst over the samples (keepWorst), its deepest vertex
     /// relative to the largest object's size (referenceSize), and the frame of that deepest.
     int measureEvery = 0, measureSamples = 0, deepestFrame = 0;

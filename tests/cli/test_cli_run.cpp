@@ -193,6 +193,16 @@ TEST(CliBench, WritesTablesAndFigureWithIdenticalModes) {
     for (const char* scene : {"spheres", "teapots"}) {
         EXPECT_TRUE(j["scenes"][scene]["identical_trajectories"].get<bool>()) << scene;
         EXPECT_GT(j["scenes"][scene]["enhanced"]["frames_per_second"].get<double>(), 0);
+        // The profile's counts, under --stats's names. The two modes find identical contacts;
+        // only their candidate pairs differ (previous has no bounding-sphere test).
+        EXPECT_GE(j["scenes"][scene]["previous"]["candidate_pairs"].get<double>(),
+                  j["scenes"][scene]["enhanced"]["candidate_pairs"].get<double>());
+        for (const char* key : {"potential_pairs", "box_pairs", "contact_box_pairs", "contacts",
+                                "floor_contacts", "sleeping_bodies", "max_contact_depth"}) {
+            const auto& previous = j["scenes"][scene]["previous"][key];
+            ASSERT_TRUE(previous.is_number()) << scene << " " << key;
+            EXPECT_EQ(previous, j["scenes"][scene]["enhanced"][key]) << scene << " " << key;
+        }
     }
     const std::string table1 = readFile(dir / "b" / "table1.md");
     EXPECT_NE(table1.find("334.28"), std::string::npos); // the paper's spheres total beside ours
