@@ -36,6 +36,13 @@
 // (boxes, and those triangles' deformed vertices). A contact whose parts are apart by more than
 // the skin pushes on meshes that are not there: that is how far the boxes stand off curved
 // surfaces (docs/ALGORITHM.md section 2, "boxes are not tight").
+//
+// And, on the same frames, where the contacts' partners leave their boxes: the contacts found
+// afresh on the state after the frame (the world restored afterwards, so the run goes on as
+// it would have), each contact's constraint at detection, dot(pA - pB, n) - offset, against
+// the distance its box pair's manifold found. They differ where B's point, kept within its
+// box, is not the projection of A's point onto the reference plane (docs/ALGORITHM.md section
+// 4, "Where the partner leaves the box").
 #include "collision/contact.h"
 #include "collision/narrow_phase.h"
 #include "collision/pipeline.h"
@@ -147,6 +154,11 @@ std::vector<std::vector<uint32_t>> cellTriangleVertices(const detail::BodyModel&
 }
 
 // The contacts of the samples, and those between mesh parts apart by more than the skin.
+struct PartnerTally {
+    long long contacts = 0, over1mm = 0, over1cm = 0, shallower = 0; // of those over 1 mm
+    double most = 0;                                                 // metres
+};
+
 struct ApartTally {
     long long contacts = 0, pairs = 0, apartContacts = 0, apartPairs = 0;
     long long overlapping = 0, overlappingApart = 0; // found with their boxes overlapping
@@ -220,6 +232,8 @@ int main(int argc, char** argv) {
             boxOwner[r.firstBox + k] = {b, r.model->lattice.boxes[k].cell};
     }
     ApartTally apart;
+    PartnerTally partners;
+    detail::ContactList fresh;
     std::vector<std::pair<uint64_t, bool>> pairApart; // per contact: its box pair, apart
     nlohmann::json perFrame = nlohmann::json::array();
     for (int f = 1; f <= frames; ++f) {
@@ -349,7 +363,44 @@ int main(int argc, char** argv) {
         apart.apartContacts += frameApart.apartContacts, apart.apartPairs += frameApart.apartPairs;
         apart.overlapping += frameApart.overlapping;
         apart.overlappingApart += frameApart.overlappingApart;
+        // The contacts found afresh on this state, against their manifolds' distances.
+        PartnerTally framePartners;
+        {
+            const std::vector<uint8_t> saved = world.saveState();
+            detail::CollisionWorld view = detail::collisionView(w);
+            detail::updateNodes(view, 0, w.bodies.size());
+            w.collision.pairs.clear();
+            detail::sphereTest(view);
+            detail::ObjectContactCounts counts;
+            detail::findObjectContacts(view, w.settings.mode, fresh, counts);
+            for (const detail::Contact& c : fresh) {
+                const Vec3 pa = detail::blend(c.a, w.collision.boxParticles, w.x);
+                const Vec3 pb = detail::blend(c.b, w.collision.boxParticles, w.x);
+                const float constraint = dot(pa - pb, c.normal) - c.offset;
+                const double off = std::fabs(double(constraint) - double(c.distance));
+                ++framePartners.contacts;
+                if (off > 1e-3) {
+                    ++framePartners.over1mm;
+                    framePartners.shallower += constraint > c.distance;
+                }
+                framePartners.over1cm += off > 1e-2;
+                framePartners.most = std::max(framePartners.most, off);
+            }
+            world.restoreState(saved);
+            // Restoring replaced the world's arrays: the meshes and records again.
+            for (size_t k = 0; k < build.bodies.size(); ++k) {
+                views[k] = {world.vertices(build.bodies[k]), world.triangles(build.bodies[k])};
+                records[k] = w.find(build.bodies[k]);
+            }
+        }
+        partners.contacts += framePartners.contacts;
+        partners.over1mm += framePartners.over1mm;
+        partners.over1cm += framePartners.over1cm;
+        partners.shallower += framePartners.shallower;
+        partners.most = std::max(partners.most, framePartners.most);
         nlohmann::json row = {{"frame", f},
+                              {"partners_off_1mm", framePartners.over1mm},
+                              {"partners_most_off_m", framePartners.most},
                               {"contacts", frameApart.contacts},
                               {"contacts_apart", frameApart.apartContacts},
                               {"box_pairs", frameApart.pairs},
@@ -412,16 +463,27 @@ int main(int argc, char** argv) {
                apart.apartPairs, apart.pairs, share(apart.apartPairs, apart.pairs),
                apart.overlappingApart, apart.overlapping,
                share(apart.overlappingApart, apart.overlapping));
+    fmt::print("  partners kept within their boxes: of {} object contacts found afresh on those "
+               "states, {} ({:.1f} %) have a constraint at detection more than 1 mm off their "
+               "manifold's distance ({} of them shallower), {} more than 1 cm; the most {:.2f} "
+               "cm\n",
+               partners.contacts, partners.over1mm, share(partners.over1mm, partners.contacts),
+               partners.shallower, partners.over1cm, 100 * partners.most);
+    const nlohmann::json partnersJson = {{"contacts", partners.contacts},
+                                         {"off_1mm", partners.over1mm},
+                                         {"off_1mm_shallower", partners.shallower},
+                                         {"off_1cm", partners.over1cm},
+                                         {"most_off_m", partners.most}};
     const nlohmann::json apartJson = {
         {"contacts", apart.contacts},       {"contacts_apart", apart.apartContacts},
         {"box_pairs", apart.pairs},         {"box_pairs_apart", apart.apartPairs},
         {"overlapping", apart.overlapping}, {"overlapping_apart", apart.overlappingApart}};
     if (jsonFile) {
         const std::string text =
-            nlohmann::json{{"scene", scene.name},  {"objects", build.bodies.size()},
-                           {"frames", frames},     {"every", every},
-                           {"causes", causes},     {"meshes_apart", apartJson},
-                           {"per_frame", perFrame}}
+            nlohmann::json{{"scene", scene.name},      {"objects", build.bodies.size()},
+                           {"frames", frames},         {"every", every},
+                           {"causes", causes},         {"meshes_apart", apartJson},
+                           {"partners", partnersJson}, {"per_frame", perFrame}}
                 .dump(1) +
             "\n";
         return bench::commitJson(*jsonFile, text, "ffdaabb_contact_causes");
