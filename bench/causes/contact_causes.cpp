@@ -153,12 +153,14 @@ std::vector<std::vector<uint32_t>> cellTriangleVertices(const detail::BodyModel&
     return out;
 }
 
-// The contacts of the samples, and those between mesh parts apart by more than the skin.
+// The contacts found afresh on the samples' states, and those whose constraint at detection is
+// off their manifold's distance.
 struct PartnerTally {
     long long contacts = 0, over1mm = 0, over1cm = 0, shallower = 0; // of those over 1 mm
     double most = 0;                                                 // metres
 };
 
+// The contacts of the samples, and those between mesh parts apart by more than the skin.
 struct ApartTally {
     long long contacts = 0, pairs = 0, apartContacts = 0, apartPairs = 0;
     long long overlapping = 0, overlappingApart = 0; // found with their boxes overlapping
@@ -374,9 +376,8 @@ int main(int argc, char** argv) {
             detail::ObjectContactCounts counts;
             detail::findObjectContacts(view, w.settings.mode, fresh, counts);
             for (const detail::Contact& c : fresh) {
-                const Vec3 pa = detail::blend(c.a, w.collision.boxParticles, w.x);
-                const Vec3 pb = detail::blend(c.b, w.collision.boxParticles, w.x);
-                const float constraint = dot(pa - pb, c.normal) - c.offset;
+                const float constraint =
+                    detail::separation(c, w.collision.boxParticles, w.x); // at detection
                 const double off = std::fabs(double(constraint) - double(c.distance));
                 ++framePartners.contacts;
                 if (off > 1e-3) {
