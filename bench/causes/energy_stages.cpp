@@ -12,9 +12,9 @@
 // Each stage's change of the two is summed over a window of N frames and printed per window,
 // with the energies at the window's end. The stages are those of the profile (ffdaabb/profile.h);
 // response_after_move is the projection after the move and the velocity pass together. Used for
-// docs/LIMITS.md, known problem 1: in 200 spheres created at one spot (examples/one_spot.json)
-// the dynamics makes deformation energy every substep and the response after the move hands a
-// share of it to the bodies' motion.
+// docs/ALGORITHM.md, "The 200 at one spot, before the centre's bound": in 200 spheres created at
+// one spot (examples/one_spot.json) the dynamics makes deformation energy every substep and the
+// response after the move hands a share of it to the bodies' motion.
 #include "ffdaabb/profile.h"
 #include "ffdaabb/scene.h"
 #include "ffdaabb/world.h"

@@ -151,7 +151,15 @@ struct WorldSettings {
     /// cell clear of each other. Only pairs that overlapped when placed are affected, until
     /// they are apart; 0: overlap is projected out at once (docs/ALGORITHM.md, "Overlap
     /// recovery").
-    float overlapRecoverySpeed = 2.25f;
+    float overlapRecoverySpeed = 2.45f;
+    /// Bound (m/s) on how fast the overlap recovery may move a body's centre, its velocity
+    /// counted; 0: no bound. The recovery moves bodies by positions, on top of their velocity,
+    /// and a body amid a heap has two pushes (a whole pair's and a recovering pair's), each up to
+    /// overlapRecoverySpeed: without the bound, 200 bodies created at one spot moved their
+    /// centres at over 6 m/s. A move is shortened so that the body's centre goes no faster than
+    /// this, or than its velocity alone where that is faster (docs/ALGORITHM.md, "Overlap
+    /// recovery").
+    float overlapRecoveryMaxSpeed = 4.5f;
     /// Contacts on the bodies' rigid modes (experimental; 0: off). After the position update,
     /// before the particle-level projection, Gauss-Seidel sweeps move the bodies of each
     /// violated contact as rigid wholes, by up to this share of the violation their rigid

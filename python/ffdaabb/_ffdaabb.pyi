@@ -72,6 +72,7 @@ class WorldSettings:
     max_separation_speed: float
     push_out_speed: float
     overlap_recovery_speed: float
+    overlap_recovery_max_speed: float
     rigid_projection: float
     vertex_floor_contacts: int
     sleep_speed: float

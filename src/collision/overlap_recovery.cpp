@@ -229,6 +229,29 @@ void settleOverlaps(CollisionWorld& w) {
     std::erase_if(s.overlaps, [](const OverlapPair& p) { return !p.deep && !p.whole; });
 }
 
+namespace {
+
+// The recovery's move of a body, shortened so that its centre, which also travels at the
+// body's velocity over the substep, goes no faster than `maxSpeed`, or than the velocity alone
+// where that is faster (the move may then only slow it). The move keeps its direction: the
+// largest share t in [0, 1] of it with |velocity dt + t move| within that bound. Moved by
+// positions, a body amid a heap moved at the velocity its contacts gave it plus up to twice
+// the recovery speed (a whole pair's push and a recovering pair's), and 200 spheres created at
+// one spot moved their centres at up to 5.96-6.55 m/s between frames with velocities of
+// 2.74-4.00 (docs/ALGORITHM.md, "Overlap recovery", "The centre's bound").
+Vec3 boundCentreMove(Vec3 velocity, Vec3 move, float maxSpeed, float dt) {
+    const Vec3 travel = velocity * dt;
+    const float reach = maxNum(maxSpeed * dt, length(travel));
+    const float mm = lengthSquared(move), tm = dot(travel, move);
+    if (!(mm > 0)) return move;
+    // |travel + t move|^2 = reach^2: its larger root (the smaller is <= 0, as |travel| <= reach).
+    const float disc = maxNum(tm * tm - mm * (lengthSquared(travel) - reach * reach), 0.0f);
+    const float t = (-tm + std::sqrt(disc)) / mm;
+    return move * minNum(maxNum(t, 0.0f), 1.0f);
+}
+
+} // namespace
+
 void pushPairsApart(CollisionWorld& w, float dt) {
     CollisionState& s = w.collision;
     if (s.overlaps.empty()) return;
@@ -324,7 +347,7 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         // square to gravity (a pair one exactly above the other: its own direction's part).
         // Pushed along the line itself, 200 bodies created at one spot were stacked into a heap
         // 3-4 m high, which they rolled down at up to 5.8 m/s once apart; spread across the
-        // floor none is faster than 4.7 (docs/LIMITS.md, known problem 1).
+        // floor none is faster than 4.7 (docs/ALGORITHM.md, "Overlap recovery").
         Vec3 across = d;
         if (up != Vec3{}) {
             across = acrossGravity(d);
@@ -372,6 +395,11 @@ void pushPairsApart(CollisionWorld& w, float dt) {
         if (w.settings.floor && move.y < 0 &&
             r.bounds.lo.y + move.y < w.settings.floorHeight + skinOf(w, r))
             move.y = 0;
+        if (w.settings.overlapRecoveryMaxSpeed > 0) {
+            const Vec3 v = std::isnan(velocity[b].x) ? massWeightedMean(r, w.v) : velocity[b];
+            move = boundCentreMove(v, move, w.settings.overlapRecoveryMaxSpeed, dt);
+            if (move.x == 0 && move.y == 0 && move.z == 0) continue;
+        }
         // Everything the contacts are found on moves with the particles (the nodes are
         // trilinear blends of them), so contacts see the moved body. Overlap with the floor or
         // a third body that the move makes is pre-existing for the response and projected

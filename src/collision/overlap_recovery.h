@@ -31,6 +31,8 @@
 //   by how deep each pair is and bounded to the recovery speed. Never down into the floor (the
 //   floor would stop the lowest cells only, and the dent would throw the body up): a body within
 //   reach of the floor is fixed for the pairs that push it down, and its partners move instead.
+//   The sum is then shortened so that the body's centre, which also travels at its velocity,
+//   goes no faster than WorldSettings::overlapRecoveryMaxSpeed (or its velocity, if faster).
 // A pair is forgotten once it is not whole and either never had a contact deeper than the skin
 // or has made its last move (no more overlap than one substep's move): from then on it collides
 // as any other pair. Pairs that meet in motion are never remembered, so scenes

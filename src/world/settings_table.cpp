@@ -32,6 +32,8 @@ constexpr SettingRange kWorld[] = {
      "overlap beyond the skin pushed out at most this fast (0: at once)"},
     {"overlapRecoverySpeed", "overlap_recovery_speed", 0.0, 1e4, "0 (at once)..1e4 m/s", false,
      "m/s", "bodies placed overlapping are pushed apart at most this fast (0: at once)"},
+    {"overlapRecoveryMaxSpeed", "overlap_recovery_max_speed", 0.0, 1e4, "0 (no bound)..1e4 m/s",
+     false, "m/s", "bound on a recovering body's centre speed, its velocity counted (0: none)"},
     {"rigidProjection", "rigid_projection", 0.0, 1.0, "0..1", false, "",
      "share of the bodies' rigid approach at a contact projected on their rigid modes (0: off)"},
     {"vertexFloorContacts", "vertex_floor_contacts", 0, 1, "0 (box corners) or 1 (vertices)", true,
@@ -42,13 +44,21 @@ constexpr SettingRange kWorld[] = {
      "how long a body and the bodies it touches must be quiet to fall asleep"},
 };
 const detail::SettingMember<W> kWorldMembers[] = {
-    &W::frameStep,        &W::substeps,
-    &W::floorHeight,      &W::contactSkin,
-    &W::solverIterations, &W::threads,
-    &W::sweepThreshold,   &W::maxSeparationSpeed,
-    &W::pushOutSpeed,     &W::overlapRecoverySpeed,
-    &W::rigidProjection,  &W::vertexFloorContacts,
-    &W::sleepSpeed,       &W::sleepTime,
+    &W::frameStep,
+    &W::substeps,
+    &W::floorHeight,
+    &W::contactSkin,
+    &W::solverIterations,
+    &W::threads,
+    &W::sweepThreshold,
+    &W::maxSeparationSpeed,
+    &W::pushOutSpeed,
+    &W::overlapRecoverySpeed,
+    &W::overlapRecoveryMaxSpeed,
+    &W::rigidProjection,
+    &W::vertexFloorContacts,
+    &W::sleepSpeed,
+    &W::sleepTime,
 };
 
 constexpr SettingRange kBody[] = {

@@ -162,11 +162,51 @@ TEST(OverlapRecovery, PlacingAgainKeepsThePairsState) {
     EXPECT_EQ(run(true), run(false));
 }
 
-// The speed is validated with the other world settings.
+// Two spheres created at one spot (gravity and floor off) with a recovery of 20 m/s: the pair
+// is whole, and each sphere's share of the push is 10 m/s. The centre's bound
+// (WorldSettings::overlapRecoveryMaxSpeed, 4.5 m/s by default) holds each centre to it, counted
+// from frame to frame. Criteria: with the bound, no centre faster than 4.5 m/s plus 10 % (what
+// the response adds within a substep) and the pair apart (centres 0.99 m) and forgotten within
+// 1 s; with it off (0), a centre faster than 8 m/s, so the bound is what held them (measured
+// 4.50 m/s, forgotten at frame 9; off, 10.00 m/s and frame 5).
+TEST(OverlapRecovery, TheCentresBoundHoldsAFastRecovery) {
+    auto fastestCentre = [](float bound) {
+        WorldSettings ws;
+        ws.gravity = {};
+        ws.floor = false;
+        ws.overlapRecoverySpeed = 20;
+        ws.overlapRecoveryMaxSpeed = bound;
+        World world(ws);
+        BodySettings b = sphereAt({0, 0, 0});
+        b.rotation = normalize(Quat{0.3f, 0.2f, -0.1f, 1});
+        const BodyId first = world.addBody(ball(), sphereAt({0, 0, 0}));
+        const BodyId second = world.addBody(ball(), b);
+        Vec3 before[2] = {world.centreOfMass(first), world.centreOfMass(second)};
+        float fastest = 0;
+        for (int f = 0; f < 60; ++f) {
+            world.step();
+            const Vec3 now[2] = {world.centreOfMass(first), world.centreOfMass(second)};
+            for (int i = 0; i < 2; ++i) {
+                fastest = std::max(fastest, length(now[i] - before[i]) / ws.frameStep);
+                before[i] = now[i];
+            }
+        }
+        EXPECT_GT(length(world.centreOfMass(first) - world.centreOfMass(second)), 0.99f);
+        EXPECT_EQ(world.profile().overlapPairs, 0);
+        return fastest;
+    };
+    EXPECT_LT(fastestCentre(WorldSettings{}.overlapRecoveryMaxSpeed), 4.5f * 1.1f);
+    EXPECT_GT(fastestCentre(0), 8.0f);
+}
+
+// The speed and the centre's bound are validated with the other world settings.
 TEST(OverlapRecovery, SpeedIsValidated) {
     for (const float bad : {-1.0f, 2e4f, NAN}) {
         WorldSettings ws;
         ws.overlapRecoverySpeed = bad;
+        EXPECT_THROW(World{ws}, InputError) << bad;
+        ws = WorldSettings{};
+        ws.overlapRecoveryMaxSpeed = bad;
         EXPECT_THROW(World{ws}, InputError) << bad;
     }
 }
