@@ -201,6 +201,20 @@ float fastestBody(const World& world) {
     return fastest;
 }
 
+CentreSpeeds::CentreSpeeds(const World& world) : bodies_(world.bodies()) {
+    for (const BodyId b : bodies_) before_.push_back(world.centreOfMass(b));
+}
+
+float CentreSpeeds::afterStep(const World& world) {
+    float fastest = 0;
+    for (size_t i = 0; i < bodies_.size(); ++i) {
+        const Vec3 c = world.centreOfMass(bodies_[i]);
+        fastest = std::max(fastest, length(c - before_[i]) / world.settings().frameStep);
+        before_[i] = c;
+    }
+    return fastest;
+}
+
 float closestCentres(const World& world) {
     const std::vector<BodyId> ids = world.bodies();
     float closest = INFINITY;

@@ -126,6 +126,20 @@ double deepestInside(const World& world, float referenceSize = 1.0f);
 /// The largest linear velocity of any body, m/s.
 float fastestBody(const World& world);
 
+/// How fast the bodies' centres of mass move from one frame to the next (what a viewer sees,
+/// the velocity and any move by positions together): construct it on the world, then call
+/// `afterStep` after each World::step() for the fastest centre over that frame, m/s. Follows the
+/// bodies the world had when it was made.
+class CentreSpeeds {
+public:
+    explicit CentreSpeeds(const World& world);
+    float afterStep(const World& world);
+
+private:
+    std::vector<BodyId> bodies_;
+    std::vector<Vec3> before_;
+};
+
 /// The height of a body's lowest mesh vertex (the deformed mesh), m.
 float lowestVertex(const World& world, BodyId body);
 
