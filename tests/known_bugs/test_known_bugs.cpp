@@ -152,7 +152,7 @@ TEST(KnownBugs, ABoxOnASlopeBelowItsFrictionAngleStays) {
 // A ball 1 m across (38 cells) dropped onto four static balls that stand touching in a square
 // on the floor. Wanted: after 5 s it rests on their meshes, its centre still (slower than 5 cm/s)
 // and at most 3 cm further from each of theirs than the 1 m at which the meshes touch (the
-// meshes' flat faces lie at most 1.3 cm inside the 0.5 m radius). Today it rests 18-19 cm above
+// meshes' flat faces lie at most 0.9 cm inside the 0.5 m radius). Today it rests 18-19 cm above
 // them, its centre 1.457 m high where touching is 1.207 m: the contacts hold the cell boxes
 // apart, and the boxes of a curved surface stand off it by up to 28.5 cm along the lattice's
 // diagonals, the directions the four contacts here lie along (docs/LIMITS.md, known problem 9).
