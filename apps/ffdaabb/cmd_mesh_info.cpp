@@ -48,6 +48,8 @@ struct ObjectStats {
     bool closed = false;
     size_t cells = 0, surfaceCells = 0, interiorCells = 0, particles = 0, nodes = 0;
     float cellSize = 0;
+    float size = 0; ///< the mesh's largest extent
+    BoxStandoff standoff;
     double buildMs = 0, generateMs = 0;
     CleanupReport cleanup;
 };
@@ -81,6 +83,8 @@ ObjectStats analyse(TriangleMesh mesh, const MeshInfoOptions& o, int defaultCell
     s.particles = L.particleCount();
     s.nodes = L.nodeCount();
     s.cellSize = L.cellSize;
+    s.size = maxComponent(bounds(mesh).extent());
+    s.standoff = measureBoxStandoff(L, mesh);
     return s;
 }
 
@@ -95,6 +99,12 @@ nlohmann::json toJson(const ObjectStats& s) {
             {"particles", s.particles},
             {"nodes", s.nodes},
             {"cell_size", s.cellSize},
+            {"size", s.size},
+            {"box_standoff",
+             {{"directions", s.standoff.directions},
+              {"median", s.standoff.median},
+              {"p90", s.standoff.p90},
+              {"max", s.standoff.max}}},
             {"lattice_build_ms", s.buildMs},
             {"generate_ms", s.generateMs}};
 }
@@ -164,6 +174,13 @@ int run(MeshInfoOptions o) {
         summary.interiorCells = size_t(std::lround(mean(&ObjectStats::interiorCells)));
         summary.particles = size_t(std::lround(mean(&ObjectStats::particles)));
         summary.nodes = size_t(std::lround(mean(&ObjectStats::nodes)));
+        summary.size = float(mean(&ObjectStats::size));
+        double median = 0, p90 = 0, most = 0;
+        for (const ObjectStats& s : objects)
+            median += s.standoff.median, p90 += s.standoff.p90, most += s.standoff.max;
+        summary.standoff.median = float(median / double(objects.size()));
+        summary.standoff.p90 = float(p90 / double(objects.size()));
+        summary.standoff.max = float(most / double(objects.size()));
         summary.buildMs = mean(&ObjectStats::buildMs);
         summary.generateMs = mean(&ObjectStats::generateMs);
         summary.closed = true;
@@ -220,6 +237,13 @@ int run(MeshInfoOptions o) {
     fmt::print("  {:<14} {:>10}\n", "particles", summary.particles);
     fmt::print("  {:<14} {:>10}\n", "box nodes", summary.nodes);
     if (objects.size() == 1) fmt::print("  {:<14} {:>10.4g}\n", "cell size", summary.cellSize);
+    // How far the boxes reach beyond the surface, direction by direction (measureBoxStandoff).
+    const auto share = [&](float v) { return summary.size > 0 ? 100.0 * v / summary.size : 0.0; };
+    fmt::print("  {:<14} {:>10.4g} median, {:.4g} at 90 %, {:.4g} at most ({:.1f} %, {:.1f} %, "
+               "{:.1f} % of the size){}\n",
+               "box standoff", summary.standoff.median, summary.standoff.p90, summary.standoff.max,
+               share(summary.standoff.median), share(summary.standoff.p90),
+               share(summary.standoff.max), objects.size() > 1 ? ", means over A-Z" : "");
     fmt::print("  {:<14} {:>10.2f} ms\n", "lattice build", summary.buildMs);
     fmt::print("  {:<14} {:>10.2f} ms\n", hasFile ? "load" : "generate", summary.generateMs);
     return 0;

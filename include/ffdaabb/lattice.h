@@ -168,4 +168,24 @@ void updateBoxNodes(const Lattice& lattice, std::span<const Vec3> particles,
 void updateBoxNodes(const Lattice& lattice, std::span<const Vec3> particles, size_t first,
                     size_t count, std::span<Vec3> outNodes);
 
+/// How far a lattice's cell boxes stand off its mesh at rest, direction by direction: along a
+/// unit direction d, the farthest box node less the farthest mesh vertex (their dot products
+/// with d). For a convex mesh that is how far its boxes reach beyond its surface that way, and
+/// two such bodies pressed together along d rest about the sum of their two figures further
+/// apart than touching, since the contacts hold their boxes apart (docs/LIMITS.md, known
+/// problem 9). Never more than a cell's diagonal with its skin. In the mesh's units.
+struct BoxStandoff {
+    int directions = 0;  ///< directions measured, spread evenly over the sphere
+    float median = 0;    ///< over the directions
+    float p90 = 0;       ///< the 90th percentile (the nearest rank below)
+    float max = 0;       ///< the largest
+    Vec3 worstDirection; ///< the direction of `max`
+};
+
+/// Measures BoxStandoff over `directions` (1..1,000,000) directions of a Fibonacci lattice on the
+/// sphere; `mesh` is the one `lattice` was built from (InputError otherwise, or for a count
+/// out of range). Cost: directions x (nodes + vertices) dot products.
+BoxStandoff measureBoxStandoff(const Lattice& lattice, const TriangleMesh& mesh,
+                               int directions = 2000);
+
 } // namespace ffd

@@ -9,11 +9,13 @@
 #include "ffdaabb/error.h"
 #include "lattice/geometry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <string>
 
 namespace ffd {
 
@@ -551,6 +553,38 @@ void updateBoxNodes(const Lattice& lattice, std::span<const Vec3> particles, siz
 void updateBoxNodes(const Lattice& lattice, std::span<const Vec3> particles,
                     std::span<Vec3> outNodes) {
     updateBoxNodes(lattice, particles, 0, lattice.boxes.size(), outNodes);
+}
+
+BoxStandoff measureBoxStandoff(const Lattice& lattice, const TriangleMesh& mesh, int directions) {
+    if (directions < 1 || directions > 1000000)
+        throw InputError("directions", "must be 1..1000000, got " + std::to_string(directions));
+    if (mesh.positions.size() != lattice.vertices.size())
+        throw InputError(mesh.name.empty() ? "mesh" : mesh.name,
+                         "has " + std::to_string(mesh.positions.size()) +
+                             " vertices, the lattice embeds " +
+                             std::to_string(lattice.vertices.size()) + ": not the lattice's mesh");
+    BoxStandoff r;
+    r.directions = directions;
+    if (lattice.boxes.empty() || mesh.positions.empty()) return r;
+    std::vector<Vec3> nodes(lattice.nodeCount());
+    updateBoxNodes(lattice, lattice.restParticles, nodes);
+    std::vector<float> standoff(static_cast<size_t>(directions));
+    constexpr double kGoldenAngle = 2.399963229728653; // pi (3 - sqrt 5)
+    for (int i = 0; i < directions; ++i) {
+        const double z = 1.0 - 2.0 * (i + 0.5) / directions, ring = std::sqrt(1.0 - z * z);
+        const Vec3 d{float(ring * std::cos(i * kGoldenAngle)),
+                     float(ring * std::sin(i * kGoldenAngle)), float(z)};
+        float boxes = -INFINITY, surface = -INFINITY;
+        for (const Vec3& n : nodes) boxes = std::max(boxes, dot(d, n));
+        for (const Vec3& v : mesh.positions) surface = std::max(surface, dot(d, v));
+        standoff[size_t(i)] = boxes - surface;
+        if (i == 0 || standoff[size_t(i)] > r.max)
+            r.max = standoff[size_t(i)], r.worstDirection = d;
+    }
+    std::sort(standoff.begin(), standoff.end());
+    r.median = standoff[standoff.size() / 2];
+    r.p90 = standoff[size_t(0.9 * double(standoff.size() - 1))];
+    return r;
 }
 
 } // namespace ffd

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -84,6 +85,12 @@ TEST(Cli, MeshInfoOfAFileReportsCleanupAndHonoursTheCellOptions) {
     EXPECT_EQ(j["triangles"].get<int>(), 12);
     EXPECT_EQ(j["cells"].get<int>(), 8); // 2 x 2 x 2
     EXPECT_TRUE(j["closed"].get<bool>());
+    // Faces on the cells' faces: the boxes stand off by their skin, half a percent of a cell
+    // (sqrt 3 of it along a corner's diagonal).
+    EXPECT_EQ(j["box_standoff"]["directions"].get<int>(), 2000);
+    EXPECT_GT(j["box_standoff"]["median"].get<double>(), 0.0);
+    EXPECT_LE(j["box_standoff"]["max"].get<double>(), std::sqrt(3.0) * 0.005 * 0.5 * 1.001);
+    EXPECT_DOUBLE_EQ(j["size"].get<double>(), 1.0);
     r = runCli({"mesh-info", (dir / "cube.obj").string(), "--json", "--cells", "27"});
     ASSERT_EQ(r.status, 0) << r.err;
     j = nlohmann::json::parse(r.out);
