@@ -4,6 +4,7 @@
 
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
+#include "ffdaabb/lattice.h"
 #include "ffdaabb/mesh_io.h"
 #include "ffdaabb/profile.h"
 #include "ffdaabb/scene.h"
@@ -142,6 +143,39 @@ void bindContent(py::module_& m) {
         },
         py::arg("path"), py::arg("vertices"), py::arg("triangles"),
         "Writes an OBJ file (through a temporary name: a failed write leaves nothing).");
+    m.def(
+        "box_standoff",
+        [](const py::object& vertices, const py::object& triangles, const LatticeSettings& settings,
+           int directions) {
+            const TriangleMesh mesh = meshFromArrays(vertices, triangles);
+            checkRange("directions", directions, 1, 1000000);
+            BoxStandoff r;
+            float h = 0;
+            {
+                py::gil_scoped_release released;
+                const Lattice lattice = buildLattice(mesh, settings);
+                r = measureBoxStandoff(lattice, mesh, directions);
+                h = lattice.cellSize;
+            }
+            py::dict d;
+            d["directions"] = r.directions;
+            d["median"] = r.median;
+            d["p90"] = r.p90;
+            d["max"] = r.max;
+            d["worst_direction"] =
+                py::make_tuple(r.worstDirection.x, r.worstDirection.y, r.worstDirection.z);
+            d["cell_size"] = h;
+            d["size"] = maxComponent(bounds(mesh).extent());
+            return d;
+        },
+        py::arg("vertices"), py::arg("triangles"), py::arg("lattice") = LatticeSettings{},
+        py::kw_only(), py::arg("directions") = 2000,
+        "How far the cell boxes of the mesh's lattice (built with `lattice`) reach beyond its "
+        "surface at rest, over `directions` directions spread over the sphere: along each, the "
+        "farthest box node less the farthest vertex. For a convex body, the gap its boxes keep "
+        "beyond its surface that way. A dict: directions, median, p90, max, worst_direction, "
+        "cell_size, size (the mesh's largest extent); what `ffdaabb mesh-info` prints as the box "
+        "standoff.");
     m.def("scene_names", &sceneNames, "The shipped scenes' names (World.from_scene, run).");
     m.def(
         "stages",

@@ -79,3 +79,31 @@ def test_input_errors_carry_the_command_lines_message(cli, tmp_path):
     with pytest.raises(ffdaabb.InputError) as again:
         ffdaabb.run(str(bad), frames=1)
     assert str(again.value) == str(error.value)
+
+
+def test_box_standoff_is_mesh_infos(cli):
+    # The sphere with the paper's 38 cells, as mesh-info builds it: the same figures.
+    result = subprocess.run([cli, "mesh-info", "--generate", "sphere", "--json"],
+                            capture_output=True, text=True, check=True)
+    expected = json.loads(result.stdout)
+    got = ffdaabb.box_standoff(*ffdaabb.sphere(), ffdaabb.LatticeSettings(cells=38))
+    assert got["cell_size"] == pytest.approx(expected["cell_size"], rel=1e-6)
+    assert got["size"] == pytest.approx(expected["size"], rel=1e-6)
+    for key in ("directions", "median", "p90", "max"):
+        assert got[key] == pytest.approx(expected["box_standoff"][key], rel=1e-6), key
+    # A ball's boxes stand off its surface along the lattice's diagonals (known problem 9), by
+    # less than a cell's diagonal.
+    assert 0 < got["median"] <= got["p90"] <= got["max"] <= 3 ** 0.5 * 1.01 * got["cell_size"]
+    assert len(got["worst_direction"]) == 3
+
+
+def test_box_standoff_refuses_bad_input():
+    vertices, triangles = ffdaabb.box([1, 1, 1])
+    with pytest.raises(ffdaabb.InputError, match="directions"):
+        ffdaabb.box_standoff(vertices, triangles, directions=0)
+    with pytest.raises(ffdaabb.InputError, match="triangles"):
+        ffdaabb.box_standoff(vertices, [[0, 1, 99]])
+    aligned = ffdaabb.box_standoff(vertices, triangles, ffdaabb.LatticeSettings(cell_size=0.5),
+                                   directions=100)
+    assert aligned["directions"] == 100
+    assert aligned["max"] <= 3 ** 0.5 * 0.005 * 0.5 * 1.001  # the skin alone
