@@ -2,6 +2,7 @@
 // paper's Table 2 beside ours for the paper's objects.
 #include "commands.h"
 #include "flags.h"
+#include "runner.h"
 
 #include "ffdaabb/error.h"
 #include "ffdaabb/generators.h"
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <functional>
 
 namespace ffd::cli {
 
@@ -49,7 +51,7 @@ struct ObjectStats {
     size_t cells = 0, surfaceCells = 0, interiorCells = 0, particles = 0, nodes = 0;
     float cellSize = 0;
     float size = 0; ///< the mesh's largest extent
-    BoxStandoff standoff;
+    cli::StandoffSummary standoff;
     double buildMs = 0, generateMs = 0;
     CleanupReport cleanup;
 };
@@ -84,7 +86,7 @@ ObjectStats analyse(TriangleMesh mesh, const MeshInfoOptions& o, int defaultCell
     s.nodes = L.nodeCount();
     s.cellSize = L.cellSize;
     s.size = maxComponent(bounds(mesh).extent());
-    s.standoff = measureBoxStandoff(L, mesh);
+    s.standoff = cli::summariseStandoff(measureBoxStandoff(L, mesh));
     return s;
 }
 
@@ -100,11 +102,7 @@ nlohmann::json toJson(const ObjectStats& s) {
             {"nodes", s.nodes},
             {"cell_size", s.cellSize},
             {"size", s.size},
-            {"box_standoff",
-             {{"directions", s.standoff.directions},
-              {"median", s.standoff.median},
-              {"p90", s.standoff.p90},
-              {"max", s.standoff.max}}},
+            {"box_standoff", cli::standoffJson(s.standoff)},
             {"lattice_build_ms", s.buildMs},
             {"generate_ms", s.generateMs}};
 }
@@ -161,9 +159,9 @@ int run(MeshInfoOptions o) {
     // The alphabet reports the averages over A-Z, as the paper's Table 2 does.
     ObjectStats summary = objects.front();
     if (objects.size() > 1) {
-        auto mean = [&](auto member) {
+        auto mean = [&](auto field) {
             double sum = 0;
-            for (const ObjectStats& s : objects) sum += double(s.*member);
+            for (const ObjectStats& s : objects) sum += double(std::invoke(field, s));
             return sum / double(objects.size());
         };
         summary.name = "alphabet (A-Z average)";
@@ -175,12 +173,9 @@ int run(MeshInfoOptions o) {
         summary.particles = size_t(std::lround(mean(&ObjectStats::particles)));
         summary.nodes = size_t(std::lround(mean(&ObjectStats::nodes)));
         summary.size = float(mean(&ObjectStats::size));
-        double median = 0, p90 = 0, most = 0;
-        for (const ObjectStats& s : objects)
-            median += s.standoff.median, p90 += s.standoff.p90, most += s.standoff.max;
-        summary.standoff.median = float(median / double(objects.size()));
-        summary.standoff.p90 = float(p90 / double(objects.size()));
-        summary.standoff.max = float(most / double(objects.size()));
+        summary.standoff.median = mean([](const ObjectStats& s) { return s.standoff.median; });
+        summary.standoff.p90 = mean([](const ObjectStats& s) { return s.standoff.p90; });
+        summary.standoff.max = mean([](const ObjectStats& s) { return s.standoff.max; });
         summary.buildMs = mean(&ObjectStats::buildMs);
         summary.generateMs = mean(&ObjectStats::generateMs);
         summary.closed = true;
@@ -238,7 +233,7 @@ int run(MeshInfoOptions o) {
     fmt::print("  {:<14} {:>10}\n", "box nodes", summary.nodes);
     if (objects.size() == 1) fmt::print("  {:<14} {:>10.4g}\n", "cell size", summary.cellSize);
     // How far the boxes reach beyond the surface, direction by direction (measureBoxStandoff).
-    const auto share = [&](float v) { return summary.size > 0 ? 100.0 * v / summary.size : 0.0; };
+    const auto share = [&](double v) { return summary.size > 0 ? 100.0 * v / summary.size : 0.0; };
     fmt::print("  {:<14} {:>10.4g} median, {:.4g} at 90 %, {:.4g} at most ({:.1f} %, {:.1f} %, "
                "{:.1f} % of the size){}\n",
                "box standoff", summary.standoff.median, summary.standoff.p90, summary.standoff.max,

@@ -173,6 +173,21 @@ void ProfileCounts::toJson(nlohmann::json& j) const {
     j["max_contact_depth"] = maxContactDepth;
 }
 
+StandoffSummary summariseStandoff(const BoxStandoff& standoff) {
+    StandoffSummary s;
+    s.directions = int(standoff.standoff.size());
+    const std::vector<double> sample(standoff.standoff.begin(), standoff.standoff.end());
+    s.median = bench::median(sample);
+    s.p90 = bench::quantile(sample, 0.9);
+    s.max = standoff.max;
+    s.worstDirection = standoff.worstDirection;
+    return s;
+}
+
+nlohmann::json standoffJson(const StandoffSummary& s) {
+    return {{"directions", s.directions}, {"median", s.median}, {"p90", s.p90}, {"max", s.max}};
+}
+
 nlohmann::json interpenetrationJson(const RunResult& r) {
     if (r.measureSamples == 0) return {{"sample_every", 0}, {"samples", 0}};
     const bench::Interpenetration& p = r.interpenetration;

@@ -3,6 +3,7 @@
 // Python module's `run` (python/), which gives the same statistics.
 #pragma once
 
+#include "ffdaabb/lattice.h"
 #include "ffdaabb/scene.h"
 #include "interpenetration.h"
 
@@ -118,6 +119,18 @@ RunResult runScene(const Scene& scene, const RunOptions& options,
 
 /// The `interpenetration` object of the --stats JSON: the worst of the mesh-level samples.
 nlohmann::json interpenetrationJson(const RunResult& r);
+
+/// A mesh's box standoff (measureBoxStandoff), summarised with the one median and quantile
+/// (bench/common/sample_stats.h): mesh-info's and the Python module's figures.
+struct StandoffSummary {
+    int directions = 0;
+    double median = 0, p90 = 0, max = 0; ///< over the directions; p90: the 0.9-quantile
+    Vec3 worstDirection;                 ///< the direction of `max`
+};
+StandoffSummary summariseStandoff(const BoxStandoff& standoff);
+
+/// Its `box_standoff` JSON object: directions, median, p90, max.
+nlohmann::json standoffJson(const StandoffSummary& s);
 
 /// The --stats JSON object (every key of DESIGN.md's contract, and more).
 nlohmann::json statsJson(const RunResult& r);

@@ -173,13 +173,12 @@ void updateBoxNodes(const Lattice& lattice, std::span<const Vec3> particles, siz
 /// with d). For a convex mesh that is how far its boxes reach beyond its surface that way, and
 /// two such bodies pressed together along d rest about the sum of their two figures further
 /// apart than touching, since the contacts hold their boxes apart (docs/LIMITS.md, known
-/// problem 9). Never more than a cell's diagonal with its skin. In the mesh's units.
+/// problem 9). Never more than a cell's diagonal with its skin. In the mesh's units. The
+/// commands summarise the sample with the project's one median and quantile (mesh-info).
 struct BoxStandoff {
-    int directions = 0;  ///< directions measured, spread evenly over the sphere
-    float median = 0;    ///< over the directions
-    float p90 = 0;       ///< the 90th percentile (the nearest rank below)
-    float max = 0;       ///< the largest
-    Vec3 worstDirection; ///< the direction of `max`
+    std::vector<float> standoff; ///< one per direction, spread evenly over the sphere
+    float max = 0;               ///< the largest
+    Vec3 worstDirection;         ///< the direction of `max`
 };
 
 /// Measures BoxStandoff over `directions` (1..1,000,000) directions of a Fibonacci lattice on the

@@ -8,6 +8,7 @@
 #include "ffdaabb/mesh_io.h"
 #include "ffdaabb/profile.h"
 #include "ffdaabb/scene.h"
+#include "runner.h"
 
 #include <cstring>
 #include <string>
@@ -149,12 +150,12 @@ void bindContent(py::module_& m) {
            int directions) {
             const TriangleMesh mesh = meshFromArrays(vertices, triangles);
             checkRange("directions", directions, 1, 1000000);
-            BoxStandoff r;
+            cli::StandoffSummary r;
             float h = 0;
             {
                 py::gil_scoped_release released;
                 const Lattice lattice = buildLattice(mesh, settings);
-                r = measureBoxStandoff(lattice, mesh, directions);
+                r = cli::summariseStandoff(measureBoxStandoff(lattice, mesh, directions));
                 h = lattice.cellSize;
             }
             py::dict d;

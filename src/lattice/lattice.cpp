@@ -564,11 +564,11 @@ BoxStandoff measureBoxStandoff(const Lattice& lattice, const TriangleMesh& mesh,
                              " vertices, the lattice embeds " +
                              std::to_string(lattice.vertices.size()) + ": not the lattice's mesh");
     BoxStandoff r;
-    r.directions = directions;
     if (lattice.boxes.empty() || mesh.positions.empty()) return r;
     std::vector<Vec3> nodes(lattice.nodeCount());
     updateBoxNodes(lattice, lattice.restParticles, nodes);
-    std::vector<float> standoff(static_cast<size_t>(directions));
+    std::vector<float>& standoff = r.standoff;
+    standoff.resize(static_cast<size_t>(directions));
     constexpr double kGoldenAngle = 2.399963229728653; // pi (3 - sqrt 5)
     for (int i = 0; i < directions; ++i) {
         const double z = 1.0 - 2.0 * (i + 0.5) / directions, ring = std::sqrt(1.0 - z * z);
@@ -581,9 +581,6 @@ BoxStandoff measureBoxStandoff(const Lattice& lattice, const TriangleMesh& mesh,
         if (i == 0 || standoff[size_t(i)] > r.max)
             r.max = standoff[size_t(i)], r.worstDirection = d;
     }
-    std::sort(standoff.begin(), standoff.end());
-    r.median = standoff[standoff.size() / 2];
-    r.p90 = standoff[size_t(0.9 * double(standoff.size() - 1))];
     return r;
 }
 
