@@ -171,3 +171,17 @@ TEST(KnownBugs, ABallOnFourBallsRestsOnTheirMeshes) {
         EXPECT_LT(length(world.centreOfMass(top) - world.centreOfMass(b)) - 1.0f, 0.03f)
             << "top centre at " << world.centreOfMass(top).y << " m";
 }
+
+// The stacked box of RigidProjection.ABoxOnADynamicBoxRests, without the projection (the
+// default), at solver iteration counts around the default 4. Wanted: at rest at every count, as
+// at 4 (0.012 m/s). Today it buzzes at 0.05-0.10 m/s at 2, 3, 5, 6 and 8 (2026-12-07): the
+// resting contacts' projection and shape matching fight (docs/LIMITS.md, known problem 5), and
+// the default count passes by where that fight happens to settle. With the opt-in projection on
+// the rigid modes (world.rigid_projection 1) the stack rests at every one of these counts.
+TEST(KnownBugs, AStackedBoxRestsAtEverySolverIterationCount) {
+    for (const int iterations : {2, 3, 4, 5, 6, 8}) {
+        WorldSettings settings;
+        settings.solverIterations = iterations;
+        EXPECT_LT(ffd::test::stackBuzz(settings), 0.03) << iterations << " iterations";
+    }
+}

@@ -163,6 +163,31 @@ void addBallsAtOneSpot(World& world, int count, Vec3 centre, unsigned seed) {
     }
 }
 
+double rmsSpeed(const World& world, BodyId body) {
+    const std::span<const Vec3> v = world.velocities(body);
+    double sum = 0;
+    for (const Vec3& u : v) sum += double(lengthSquared(u));
+    return std::sqrt(sum / double(v.size()));
+}
+
+double stackBuzz(WorldSettings settings) {
+    settings.sleepSpeed = 0;
+    World world(settings);
+    const TriangleMesh slab = box({0.4f, 0.2f, 0.3f});
+    BodySettings s;
+    s.position = {0, 0.2f, 0};
+    world.addBody(slab, s);
+    s.position = {0.05f, 0.602f, 0};
+    const BodyId upper = world.addBody(slab, s);
+    double sum = 0;
+    int count = 0;
+    for (int f = 0; f < 480; ++f) {
+        world.step();
+        if (f >= 240) sum += rmsSpeed(world, upper), ++count;
+    }
+    return sum / count;
+}
+
 float lowestVertex(const World& world, BodyId body) {
     float lowest = INFINITY;
     for (const Vec3& v : world.vertices(body)) lowest = std::min(lowest, v.y);

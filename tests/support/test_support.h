@@ -140,6 +140,14 @@ private:
     std::vector<Vec3> before_;
 };
 
+/// A body's root-mean-square particle speed, m/s.
+double rmsSpeed(const World& world, BodyId body);
+
+/// A 0.8 x 0.4 x 0.6 m box set 5 cm off centre on a like box on the floor, in a world with
+/// `settings` (sleeping off: watched awake): the upper box's rmsSpeed averaged over 4-8 s, how
+/// much a resting stack buzzes (docs/LIMITS.md, known problem 5).
+double stackBuzz(WorldSettings settings);
+
 /// The height of a body's lowest mesh vertex (the deformed mesh), m.
 float lowestVertex(const World& world, BodyId body);
 
