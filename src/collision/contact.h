@@ -186,15 +186,43 @@ void makeContactPoint(uint32_t box, Vec3 local, std::span<const BoxParticles> bo
 /// contacts are grouped in zones, each swept in canonical order; the zones of one colour share
 /// no body, so they are swept on any threads with the same result, and the colours one after
 /// the other (buildSolverSchedule).
+///
+/// A pile with more contacts than a cache holds is swept in blocks: bands of zone rows, each
+/// taken through a pass's first sweep and its later sweeps before the next band, colour after
+/// colour within it (the tail, colour 4, in the last band). A band's contacts are read from
+/// memory in its first sweep and from the cache in the later ones, where sweeping the whole
+/// pile each time read every contact from memory in every sweep (docs/BENCHMARKS.md, "The large
+/// pile's sweeps in blocks"). Fewer contacts than kBandContacts make one block: the sweeps as
+/// without blocks.
 struct SolverSchedule {
     std::vector<uint32_t> order;       ///< contact indices, zone by zone
     std::vector<uint32_t> zoneStart;   ///< zone z: order[zoneStart[z], zoneStart[z + 1])
     std::vector<uint32_t> colourStart; ///< colour c: zones [colourStart[c], colourStart[c + 1])
-    std::vector<uint32_t> bySize;      ///< each colour's zones, largest first (for balance)
+    /// Each block's and colour's zones, largest first (for balance): the zones of block b and
+    /// colour c (blockZone) in another order.
+    std::vector<uint32_t> bySize;
+    /// With more than one block, (blocks + 1) rows of one entry per colour: block b's zones of
+    /// colour c are [blockStart[b * colours + c], blockStart[(b + 1) * colours + c]). Empty: one
+    /// block, the colours' zones.
+    std::vector<uint32_t> blockStart;
     std::vector<uint32_t> zoneOf, zones, next;     ///< scratch of buildSolverSchedule
     std::vector<std::vector<uint32_t>> chunkZones; ///< scratch: the zones of each chunk
     size_t zoneCount() const { return zoneStart.empty() ? 0 : zoneStart.size() - 1; }
+    size_t colourCount() const { return colourStart.empty() ? 0 : colourStart.size() - 1; }
+    size_t blockCount() const {
+        return blockStart.empty() ? 1 : blockStart.size() / colourCount() - 1;
+    }
+    /// The first zone of colour c in block b (b = blockCount(): the colour's end).
+    uint32_t blockZone(size_t b, size_t c) const {
+        if (blockStart.empty()) return b == 0 ? colourStart[c] : colourStart[c + 1];
+        return blockStart[b * colourCount() + c];
+    }
 };
+
+/// How many contacts a block of the solver's schedule holds before the next starts (at a row
+/// of zones): about 4 MB of contacts with their particles, which a processor's last cache holds
+/// beside the rest of the step. Measured on alphabets_x10 (docs/BENCHMARKS.md).
+inline constexpr uint32_t kBandContacts = 32768;
 
 /// A body's column of the solver's zones: the cell of its centre on a grid over x and z.
 struct ZoneCell {
@@ -221,8 +249,11 @@ uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0);
 /// cells (its body's cell for the floor); the blocks with both corner indices of the same
 /// parities form a colour and share no body. A contact between bodies more than a cell apart
 /// goes to a last zone of its own colour. Each zone keeps the contacts' order.
+/// More than `bandContacts` contacts are swept in blocks (SolverSchedule), each band of zone
+/// rows holding at least that many but the last.
 void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
-                         SolverSchedule& out, Workers& workers);
+                         SolverSchedule& out, Workers& workers,
+                         uint32_t bandContacts = kBandContacts);
 
 /// What is wrong with `schedule` for `contacts` between `bodyCount` bodies (empty: nothing):
 /// every contact once in its order, zones and colours in range and in order, and no body in
@@ -255,6 +286,9 @@ struct SolverScratch {
     std::vector<uint32_t> active, activeEnd, impacts, impactEnd;
     std::vector<ZoneCell> cells; ///< per body, for the schedule
     SolverSchedule schedule;
+    /// The contacts of a block of the schedule (buildSolverSchedule); tests set fewer, to sweep
+    /// a small pile in blocks.
+    uint32_t bandContacts = kBandContacts;
 };
 
 /// A body as a rigid whole, for the rigid phase.

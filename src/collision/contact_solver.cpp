@@ -85,17 +85,19 @@ void shares(const Point4& p, const float* invMass, float* share) {
             share[4 * h + k] = p.weight[h][k] * invMass[p.particle[4 * h + k]];
 }
 
-// Calls fn(z) for the zones z of the schedule whose subset [zoneStart[z], end[z]) is not empty
-// (`end`: the schedule's zoneStart shifted by one, or a subset's ends): colour after colour,
-// the zones of a colour on the workers.
+// Calls fn(z) for the zones z of block `block` of the schedule whose subset [zoneStart[z],
+// end[z]) is not empty (`end`: the schedule's zoneStart shifted by one, or a subset's ends):
+// colour after colour, the block's zones of a colour on the workers.
 template <class F>
-void forEachZone(const SolverSchedule& schedule, std::span<const uint32_t> end, Workers& workers,
-                 F&& fn) {
+void forEachZone(const SolverSchedule& schedule, size_t block, std::span<const uint32_t> end,
+                 Workers& workers, F&& fn) {
     // A colour with few contacts to visit runs on the calling thread: handing it out would
     // cost more than it saves.
     constexpr uint32_t kParallelWork = 512;
-    for (size_t c = 0; c + 1 < schedule.colourStart.size(); ++c) {
-        const uint32_t first = schedule.colourStart[c], last = schedule.colourStart[c + 1];
+    for (size_t c = 0; c < schedule.colourCount(); ++c) {
+        const uint32_t first = schedule.blockZone(block, c),
+                       last = schedule.blockZone(block + 1, c);
+        if (first == last) continue;
         uint32_t work = 0;
         for (uint32_t z = first; z < last && work < kParallelWork; ++z)
             work += end[z] - schedule.zoneStart[z];
@@ -114,12 +116,13 @@ void forEachZone(const SolverSchedule& schedule, std::span<const uint32_t> end, 
     }
 }
 
-// Calls fn(m) for the positions m of the zones' subsets [zoneStart[z], end[z]), each zone's in
-// order, the zones as forEachZone visits them: one Gauss-Seidel sweep over a selection.
+// Calls fn(m) for the positions m of the block's zones' subsets [zoneStart[z], end[z]), each
+// zone's in order, the zones as forEachZone visits them: one Gauss-Seidel sweep over a
+// selection.
 template <class F>
-void sweepZones(const SolverSchedule& schedule, std::span<const uint32_t> end, Workers& workers,
-                F&& fn) {
-    forEachZone(schedule, end, workers, [&](uint32_t z) {
+void sweepZones(const SolverSchedule& schedule, size_t block, std::span<const uint32_t> end,
+                Workers& workers, F&& fn) {
+    forEachZone(schedule, block, end, workers, [&](uint32_t z) {
         for (uint32_t m = schedule.zoneStart[z]; m < end[z]; ++m) fn(m);
     });
 }
@@ -129,32 +132,52 @@ std::span<const uint32_t> zoneEnds(const SolverSchedule& schedule) {
     return std::span<const uint32_t>(schedule.zoneStart).subspan(1);
 }
 
-// Keeps, zone by zone on the workers, the contacts of the schedule for which keep(n) holds:
-// zone z's at [zoneStart[z], end[z]) of `kept` (in the schedule's order).
+// Calls fn(z) for every zone z of block `block`, on the workers (in any order).
 template <class F>
-void selectInZones(const SolverSchedule& schedule, Workers& workers, std::vector<uint32_t>& kept,
-                   std::vector<uint32_t>& end, F&& keep) {
+void inBlock(const SolverSchedule& schedule, size_t block, Workers& workers, F&& fn) {
+    for (size_t c = 0; c < schedule.colourCount(); ++c) {
+        const uint32_t first = schedule.blockZone(block, c),
+                       last = schedule.blockZone(block + 1, c);
+        workers.forChunks(last - first, 4, [&](size_t from, size_t to, int) {
+            for (size_t z = first + from; z < first + to; ++z) fn(uint32_t(z));
+        });
+    }
+}
+
+// Keeps, zone by zone on the workers, the contacts of the block's zones for which keep(n)
+// holds: zone z's at [zoneStart[z], end[z]) of `kept` (in the schedule's order).
+template <class F>
+void selectInZones(const SolverSchedule& schedule, size_t block, Workers& workers,
+                   std::vector<uint32_t>& kept, std::vector<uint32_t>& end, F&& keep) {
     kept.resize(schedule.order.size());
     end.resize(schedule.zoneCount());
-    workers.forChunks(schedule.zoneCount(), 4, [&](size_t first, size_t last, int) {
-        for (size_t z = first; z < last; ++z) {
-            uint32_t out = schedule.zoneStart[z];
-            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m)
-                if (keep(schedule.order[m])) kept[out++] = schedule.order[m];
-            end[z] = out;
-        }
+    inBlock(schedule, block, workers, [&](uint32_t z) {
+        uint32_t out = schedule.zoneStart[z];
+        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m)
+            if (keep(schedule.order[m])) kept[out++] = schedule.order[m];
+        end[z] = out;
     });
 }
 
-// The contacts the later sweeps visit, zone by zone: those whose slack (separation, or
-// velocity slack) is under twice the reach of their two bodies (how far the first sweep moved
-// them).
-void selectReachable(std::span<const Contact> contacts, SolverScratch& s, Workers& workers) {
-    selectInZones(s.schedule, workers, s.active, s.activeEnd, [&](uint32_t n) {
+// The contacts of the block that the later sweeps visit, zone by zone: those whose slack
+// (separation, or velocity slack) is under twice the reach of their two bodies (how far the
+// first sweep moved them).
+void selectReachable(std::span<const Contact> contacts, SolverScratch& s, size_t block,
+                     Workers& workers) {
+    selectInZones(s.schedule, block, workers, s.active, s.activeEnd, [&](uint32_t n) {
         const Contact& c = contacts[n];
         const float reach = 2.0f * (s.bodyReach[c.bodyA] + (c.hasB ? s.bodyReach[c.bodyB] : 0.0f));
         return s.slack[n] < reach;
     });
+}
+
+// The deepest of the block's zones' `deepest`.
+float blockDeepest(const SolverSchedule& schedule, size_t block, std::span<const float> deepest) {
+    float d = 0;
+    for (size_t c = 0; c < schedule.colourCount(); ++c)
+        for (uint32_t z = schedule.blockZone(block, c); z < schedule.blockZone(block + 1, c); ++z)
+            d = maxNum(d, deepest[z]);
+    return d;
 }
 
 // The normal's arms, angular responses, inverse masses and effective mass of contact c's
@@ -210,7 +233,7 @@ uint32_t zoneKey(ZoneCell a, ZoneCell b, int32_t i0, int32_t k0) {
 }
 
 void buildSolverSchedule(std::span<const Contact> contacts, std::span<const ZoneCell> cells,
-                         SolverSchedule& out, Workers& workers) {
+                         SolverSchedule& out, Workers& workers, uint32_t bandContacts) {
     out.order.clear();
     out.zoneStart.clear();
     out.colourStart.clear();
@@ -277,18 +300,57 @@ void buildSolverSchedule(std::span<const Contact> contacts, std::span<const Zone
         uint32_t* next = count.data() + first / kChunk * zoneCount;
         for (size_t n = first; n < last; ++n) out.order[next[zoneOf[n]]++] = uint32_t(n);
     });
-    // Within each colour, its zones by decreasing size (ties by index).
-    out.bySize.resize(zoneCount);
-    for (size_t c = 0; c + 1 < out.colourStart.size(); ++c) {
-        const auto first = out.bySize.begin() + out.colourStart[c];
-        const auto last = out.bySize.begin() + out.colourStart[c + 1];
-        std::iota(first, last, out.colourStart[c]);
-        std::sort(first, last, [&](uint32_t a, uint32_t b) {
-            const uint32_t sa = out.zoneStart[a + 1] - out.zoneStart[a];
-            const uint32_t sb = out.zoneStart[b + 1] - out.zoneStart[b];
-            return sa > sb || (sa == sb && a < b);
-        });
+    // The blocks: bands of zone rows of bandContacts contacts or more each (the last may hold
+    // fewer), cut before the row after a band reaches it; the tail in the last.
+    out.blockStart.clear();
+    const size_t colours = out.colourCount();
+    if (contacts.size() > bandContacts) {
+        auto rowOf = [](uint32_t key) { return key >> kZoneIndexBits & kZoneIndexMask; };
+        auto colourOf = [](uint32_t key) { return key >> 2 * kZoneIndexBits; };
+        std::vector<uint32_t>& rows = out.next; // contacts per row (count is spent)
+        rows.assign(size_t(kZoneIndexMask) + 1, 0);
+        for (size_t z = 0; z < zoneCount; ++z)
+            if (zones[z] != kTailZone)
+                rows[rowOf(zones[z])] += out.zoneStart[z + 1] - out.zoneStart[z];
+        std::vector<uint32_t> cuts; // each block's first row after the first
+        uint32_t held = 0;
+        for (uint32_t r = 0; r < rows.size(); ++r) {
+            if (held >= bandContacts && rows[r] > 0) cuts.push_back(r), held = 0;
+            held += rows[r];
+        }
+        if (!cuts.empty()) {
+            out.blockStart.resize((cuts.size() + 2) * colours);
+            for (size_t c = 0; c < colours; ++c) {
+                const uint32_t first = out.colourStart[c], last = out.colourStart[c + 1];
+                const uint32_t colour = colourOf(zones[first]);
+                out.blockStart[c] = first;
+                out.blockStart[(cuts.size() + 1) * colours + c] = last;
+                for (size_t b = 0; b < cuts.size(); ++b) {
+                    const uint32_t key = colour << 2 * kZoneIndexBits | cuts[b] << kZoneIndexBits;
+                    out.blockStart[(b + 1) * colours + c] =
+                        zones[first] == kTailZone
+                            ? first // the tail: in the last block
+                            : uint32_t(std::lower_bound(zones.begin() + first, zones.begin() + last,
+                                                        key) -
+                                       zones.begin());
+                }
+            }
+        }
     }
+    // Within each block's colour, its zones by decreasing size (ties by index).
+    out.bySize.resize(zoneCount);
+    for (size_t b = 0; b < out.blockCount(); ++b)
+        for (size_t c = 0; c < colours; ++c) {
+            const uint32_t from = out.blockZone(b, c);
+            const auto first = out.bySize.begin() + from;
+            const auto last = out.bySize.begin() + out.blockZone(b + 1, c);
+            std::iota(first, last, from);
+            std::sort(first, last, [&](uint32_t x, uint32_t y) {
+                const uint32_t sx = out.zoneStart[x + 1] - out.zoneStart[x];
+                const uint32_t sy = out.zoneStart[y + 1] - out.zoneStart[y];
+                return sx > sy || (sx == sy && x < y);
+            });
+        }
 }
 
 std::string scheduleProblem(std::span<const Contact> contacts, const SolverSchedule& schedule,
@@ -309,6 +371,27 @@ std::string scheduleProblem(std::span<const Contact> contacts, const SolverSched
     if (colours.size() < 2 || colours.front() != 0 || colours.back() != zones)
         return say("colour starts do not span the zones", colours.size(), zones);
     if (schedule.bySize.size() != zones) return say("bySize size != zones", schedule.bySize.size());
+    const size_t colourCount = schedule.colourCount();
+    if (!schedule.blockStart.empty()) {
+        if (colourCount == 0 || schedule.blockStart.size() % colourCount != 0 ||
+            schedule.blockStart.size() < 2 * colourCount)
+            return say("block starts not rows of colours", schedule.blockStart.size(), colourCount);
+        const size_t blocks = schedule.blockCount();
+        for (size_t c = 0; c < colourCount; ++c) {
+            if (schedule.blockZone(0, c) != schedule.colourStart[c] ||
+                schedule.blockZone(blocks, c) != schedule.colourStart[c + 1])
+                return say("blocks do not span the colour", c);
+            for (size_t b = 0; b < blocks; ++b)
+                if (schedule.blockZone(b, c) > schedule.blockZone(b + 1, c))
+                    return say("block starts decrease", b, c);
+        }
+    }
+    for (size_t b = 0; b < schedule.blockCount(); ++b)
+        for (size_t c = 0; c < colourCount; ++c)
+            for (uint32_t k = schedule.blockZone(b, c); k < schedule.blockZone(b + 1, c); ++k)
+                if (schedule.bySize[k] < schedule.blockZone(b, c) ||
+                    schedule.bySize[k] >= schedule.blockZone(b + 1, c))
+                    return say("bySize leaves its block's colour", k, schedule.bySize[k]);
     std::vector<uint8_t> seen(n, 0);
     for (const uint32_t c : schedule.order) {
         if (c >= n) return say("contact index out of range", c, n);
@@ -429,17 +512,19 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
     // Every contact's approach (the velocity pass reads it too), and the impacts kept.
     toLanes(v, scratch.v4, workers);
     const F4* const V = scratch.v4.data();
-    selectInZones(schedule, workers, impacts, impactEnd, [&](uint32_t k) {
-        Contact& c = contacts[k];
-        F4 rel = blend4(point4(c.a, boxes), V);
-        if (c.hasB) rel -= blend4(point4(c.b, boxes), V);
-        c.approachSpeed = dot(rel, c.normal);
-        c.rigidImpulse = 0;
-        c.rigidFriction = 0;
-        // A deep contact's approach is its bodies restoring the dent the last push-out left:
-        // read as an impact, it would be turned into rigid motion (margins.h, push-out).
-        return !c.pushedOut && rigidityOf(c) > 0;
-    });
+    for (size_t block = 0; block < schedule.blockCount(); ++block)
+        selectInZones(schedule, block, workers, impacts, impactEnd, [&](uint32_t k) {
+            Contact& c = contacts[k];
+            F4 rel = blend4(point4(c.a, boxes), V);
+            if (c.hasB) rel -= blend4(point4(c.b, boxes), V);
+            c.approachSpeed = dot(rel, c.normal);
+            c.rigidImpulse = 0;
+            c.rigidFriction = 0;
+            // A deep contact's approach is its bodies restoring the dent the last push-out
+            // left: read as an impact, it would be turned into rigid motion (margins.h,
+            // push-out).
+            return !c.pushedOut && rigidityOf(c) > 0;
+        });
     bool any = false;
     for (size_t z = 0; z < schedule.zoneCount(); ++z)
         for (uint32_t j = schedule.zoneStart[z]; j < impactEnd[z]; ++j) {
@@ -525,7 +610,9 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
             B->dw -= p.turnB * d;
         }
     };
-    for (int it = 0; it < iterations; ++it) sweepZones(schedule, impactEnd, workers, sweep);
+    for (size_t block = 0; block < schedule.blockCount(); ++block)
+        for (int it = 0; it < iterations; ++it)
+            sweepZones(schedule, block, impactEnd, workers, sweep);
     inEveryZone([&](uint32_t j) { contacts[impacts[j]].rigidImpulse = points[j].normalImpulse; });
     workers.forRange(states.size(), [&](size_t first, size_t last, int) {
         for (size_t b = first; b < last; ++b) {
@@ -618,47 +705,49 @@ void projectRigidModes(std::span<Contact> contacts, std::span<const BoxParticles
     std::vector<float>& depth = scratch.bodyReach;
     slack.resize(contacts.size());
     depth.assign(bodyCount, 0.0f);
-    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
-        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
-            const uint32_t n = schedule.order[m];
-            const Contact& c = contacts[n];
-            RigidPoint& p = points[n];
-            const RigidState& A = states[c.bodyA];
-            const ContactWeights cw(c, boxes);
-            const Vec3 pa = blend(cw.a, x), pb = c.hasB ? blend(cw.b, x) : Vec3{};
-            p.normalImpulse = 0;
-            p.tangent = {};
-            p.rA = pa - A.centre;
-            p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
-            // The rigid modes take the share `share` of the violation that the bodies' rigid
-            // motion made in this substep's move (dt times their approach at the contact), no
-            // more: the rest is
-            // deformation (shape matching restoring a dent, bodies created overlapping), which
-            // the particle-level passes push out without throwing the bodies apart (margins.h,
-            // push-out; overlap_recovery.h).
-            auto rigidVelocity = [&](const RigidState& r, const PointWeights& q, Vec3 at) {
-                return r.active ? r.velocity + cross(r.angularVelocity, at - r.centre)
-                                : blend(q, v); // immovable: its particles move rigidly
-            };
-            Vec3 rel = rigidVelocity(A, cw.a, pa);
-            if (c.hasB) rel -= rigidVelocity(states[c.bodyB], cw.b, pb);
-            const float C = dot(pa - pb, c.normal) - c.offset;
-            const float closing = maxNum(-dot(rel, c.normal), 0.0f) * dt;
-            p.slip = (rel - c.normal * dot(rel, c.normal)) * dt;
-            p.target = C - minNum(c.tolerated, C + share * closing);
-            setNormalResponse(c, states, pa, pb, p);
-            const float violated = sweep(n);
-            slack[n] = violated;
-            if (!(violated < 0)) continue;
-            depth[c.bodyA] = maxNum(depth[c.bodyA], -violated);
-            if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -violated);
+    // Block by block: its first sweep, then its later sweeps.
+    for (size_t block = 0; block < schedule.blockCount(); ++block) {
+        forEachZone(schedule, block, zoneEnds(schedule), workers, [&](uint32_t z) {
+            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+                const uint32_t n = schedule.order[m];
+                const Contact& c = contacts[n];
+                RigidPoint& p = points[n];
+                const RigidState& A = states[c.bodyA];
+                const ContactWeights cw(c, boxes);
+                const Vec3 pa = blend(cw.a, x), pb = c.hasB ? blend(cw.b, x) : Vec3{};
+                p.normalImpulse = 0;
+                p.tangent = {};
+                p.rA = pa - A.centre;
+                p.rB = c.hasB ? pb - states[c.bodyB].centre : Vec3{};
+                // The rigid modes take the share `share` of the violation that the bodies'
+                // rigid motion made in this substep's move (dt times their approach at the
+                // contact), no more: the rest is deformation (shape matching restoring a dent,
+                // bodies created overlapping), which the particle-level passes push out without
+                // throwing the bodies apart (margins.h, push-out; overlap_recovery.h).
+                auto rigidVelocity = [&](const RigidState& r, const PointWeights& q, Vec3 at) {
+                    return r.active ? r.velocity + cross(r.angularVelocity, at - r.centre)
+                                    : blend(q, v); // immovable: its particles move rigidly
+                };
+                Vec3 rel = rigidVelocity(A, cw.a, pa);
+                if (c.hasB) rel -= rigidVelocity(states[c.bodyB], cw.b, pb);
+                const float C = dot(pa - pb, c.normal) - c.offset;
+                const float closing = maxNum(-dot(rel, c.normal), 0.0f) * dt;
+                p.slip = (rel - c.normal * dot(rel, c.normal)) * dt;
+                p.target = C - minNum(c.tolerated, C + share * closing);
+                setNormalResponse(c, states, pa, pb, p);
+                const float violated = sweep(n);
+                slack[n] = violated;
+                if (!(violated < 0)) continue;
+                depth[c.bodyA] = maxNum(depth[c.bodyA], -violated);
+                if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -violated);
+            }
+        });
+        if (iterations > 1) {
+            selectReachable(contacts, scratch, block, workers);
+            for (int it = 1; it < iterations; ++it)
+                sweepZones(schedule, block, scratch.activeEnd, workers,
+                           [&](uint32_t m) { sweep(scratch.active[m]); });
         }
-    });
-    if (iterations > 1) {
-        selectReachable(contacts, scratch, workers);
-        for (int it = 1; it < iterations; ++it)
-            sweepZones(schedule, scratch.activeEnd, workers,
-                       [&](uint32_t m) { sweep(scratch.active[m]); });
     }
     workers.forRange(contacts.size(), [&](size_t first, size_t last, int) {
         for (size_t n = first; n < last; ++n) {
@@ -726,30 +815,34 @@ void solveContactPositions(std::span<Contact> contacts, std::span<const BoxParti
     separation.resize(contacts.size());
     depth.assign(bodyCount, 0.0f);
     scratch.zoneDeepest.assign(schedule.zoneCount(), 0.0f);
-    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
-        float deepest = 0;
-        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
-            const uint32_t n = schedule.order[m];
-            Contact& c = contacts[n];
-            c.positionImpulse = 0;
-            const float C = sweep(c);
-            separation[n] = C;
-            if (C >= 0) continue;
-            deepest = maxNum(deepest, -C);
-            depth[c.bodyA] = maxNum(depth[c.bodyA], -C);
-            if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
+    // Block by block: its first sweep, then its later sweeps.
+    bool moved = false;
+    for (size_t block = 0; block < schedule.blockCount(); ++block) {
+        forEachZone(schedule, block, zoneEnds(schedule), workers, [&](uint32_t z) {
+            float deepest = 0;
+            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+                const uint32_t n = schedule.order[m];
+                Contact& c = contacts[n];
+                c.positionImpulse = 0;
+                const float C = sweep(c);
+                separation[n] = C;
+                if (C >= 0) continue;
+                deepest = maxNum(deepest, -C);
+                depth[c.bodyA] = maxNum(depth[c.bodyA], -C);
+                if (c.hasB) depth[c.bodyB] = maxNum(depth[c.bodyB], -C);
+            }
+            scratch.zoneDeepest[z] = deepest;
+        });
+        const float deepest = blockDeepest(schedule, block, scratch.zoneDeepest);
+        if (iterations > 1 && deepest > 0) {
+            selectReachable(contacts, scratch, block, workers);
+            for (int it = 1; it < iterations; ++it)
+                sweepZones(schedule, block, scratch.activeEnd, workers,
+                           [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
         }
-        scratch.zoneDeepest[z] = deepest;
-    });
-    float deepest = 0;
-    for (const float d : scratch.zoneDeepest) deepest = maxNum(deepest, d);
-    if (iterations > 1 && deepest > 0) {
-        selectReachable(contacts, scratch, workers);
-        for (int it = 1; it < iterations; ++it)
-            sweepZones(schedule, scratch.activeEnd, workers,
-                       [&](uint32_t m) { sweep(contacts[scratch.active[m]]); });
+        moved = moved || deepest > 0;
     }
-    if (deepest <= 0) return; // nothing moved
+    if (!moved) return; // nothing moved
     fromLanes(scratch.x4, x, workers);
     if (follow) fromLanes(scratch.v4, v, workers);
 }
@@ -824,31 +917,35 @@ float solveContactVelocities(std::span<Contact> contacts, std::span<const BoxPar
     // the deepest violation left, are found then.
     std::vector<float>& zoneDeepest = scratch.zoneDeepest;
     zoneDeepest.assign(schedule.zoneCount(), 0.0f);
-    forEachZone(schedule, zoneEnds(schedule), workers, [&](uint32_t z) {
-        float d = 0;
-        for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
-            Contact& c = contacts[schedule.order[m]];
-            c.normalImpulse = 0;
-            c.tangentImpulse = {};
-            Point4 a, b;
-            const float C = separation4(c, boxes, X, a, b);
-            c.gap = maxNum(C, 0.0f);
-            d = maxNum(d, -C);
-            slack[schedule.order[m]] = sweep(c, a, b);
+    // Block by block: its first sweep, then its later sweeps.
+    for (size_t block = 0; block < schedule.blockCount(); ++block) {
+        firstSweep = true;
+        forEachZone(schedule, block, zoneEnds(schedule), workers, [&](uint32_t z) {
+            float d = 0;
+            for (uint32_t m = schedule.zoneStart[z]; m < schedule.zoneStart[z + 1]; ++m) {
+                Contact& c = contacts[schedule.order[m]];
+                c.normalImpulse = 0;
+                c.tangentImpulse = {};
+                Point4 a, b;
+                const float C = separation4(c, boxes, X, a, b);
+                c.gap = maxNum(C, 0.0f);
+                d = maxNum(d, -C);
+                slack[schedule.order[m]] = sweep(c, a, b);
+            }
+            zoneDeepest[z] = d;
+        });
+        if (iterations > 1) {
+            selectReachable(contacts, scratch, block, workers);
+            firstSweep = false;
+            for (int it = 1; it < iterations; ++it)
+                sweepZones(schedule, block, scratch.activeEnd, workers, [&](uint32_t m) {
+                    Contact& c = contacts[scratch.active[m]];
+                    sweep(c, point4(c.a, boxes), c.hasB ? point4(c.b, boxes) : Point4{});
+                });
         }
-        zoneDeepest[z] = d;
-    });
+    }
     float deepest = 0;
     for (const float d : zoneDeepest) deepest = maxNum(deepest, d);
-    if (iterations > 1) {
-        selectReachable(contacts, scratch, workers);
-        firstSweep = false;
-        for (int it = 1; it < iterations; ++it)
-            sweepZones(schedule, scratch.activeEnd, workers, [&](uint32_t m) {
-                Contact& c = contacts[scratch.active[m]];
-                sweep(c, point4(c.a, boxes), c.hasB ? point4(c.b, boxes) : Point4{});
-            });
-    }
     fromLanes(scratch.v4, v, workers);
     return deepest;
 }

@@ -33,7 +33,7 @@ namespace {
 void scheduleContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
     zoneCells(w, s.solver.cells);
-    buildSolverSchedule(s.all, s.solver.cells, s.solver.schedule, w.workers);
+    buildSolverSchedule(s.all, s.solver.cells, s.solver.schedule, w.workers, s.solver.bandContacts);
 }
 
 } // namespace

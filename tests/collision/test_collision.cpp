@@ -1087,6 +1087,43 @@ TEST(SolverSchedule, APilesScheduleMeetsItsInvariantsAndBrokenOnesAreFound) {
     shared.colourStart = {0, 1, 2, 3}; // each zone its own colour: nothing shared
     EXPECT_EQ(detail::scheduleProblem(floor, shared, 2), "");
 
+    // The same contacts in blocks of at least 64: bands of zone rows, each block's zones of a
+    // colour a run of that colour's, the blocks' rows in order, the tail in the last block.
+    detail::SolverSchedule banded;
+    detail::Workers workers;
+    detail::buildSolverSchedule(s.all, s.solver.cells, banded, workers, 64);
+    ASSERT_GT(banded.blockCount(), 2u);
+    EXPECT_EQ(detail::scheduleProblem(s.all, banded, w.bodies.size()), "");
+    EXPECT_EQ(banded.order, real.order); // the zones and their contacts as without blocks
+    EXPECT_EQ(banded.zoneStart, real.zoneStart);
+    const size_t colours = banded.colourCount();
+    uint32_t lastRow = 0;
+    for (size_t b = 0; b < banded.blockCount(); ++b) {
+        uint32_t contacts = 0, lowest = UINT32_MAX, highest = 0;
+        for (size_t c = 0; c < colours; ++c)
+            for (uint32_t z = banded.blockZone(b, c); z < banded.blockZone(b + 1, c); ++z) {
+                contacts += banded.zoneStart[z + 1] - banded.zoneStart[z];
+                if (banded.zones[z] == detail::kTailZone) {
+                    EXPECT_EQ(b + 1, banded.blockCount()) << "the tail before the last block";
+                    continue;
+                }
+                const uint32_t row =
+                    banded.zones[z] >> detail::kZoneIndexBits & detail::kZoneIndexMask;
+                lowest = std::min(lowest, row), highest = std::max(highest, row);
+            }
+        if (b + 1 < banded.blockCount()) {
+            EXPECT_GE(contacts, 64u) << "block " << b;
+        }
+        if (b > 0) {
+            EXPECT_GT(lowest, lastRow) << "block " << b << " shares a row";
+        }
+        lastRow = highest;
+    }
+    detail::SolverSchedule crossed = banded;
+    crossed.blockStart[colours] = crossed.colourStart[1] + 1; // past its colour's end
+    EXPECT_NE(detail::scheduleProblem(s.all, crossed, w.bodies.size()).find("block"),
+              std::string::npos);
+
     std::vector<detail::Contact> stray(s.all.begin(), s.all.begin() + 2);
     auto problem = [&] {
         return detail::contactProblem(stray, s.boxParticles, w.bodies.size(), s.bodyFirstParticle,

@@ -5,6 +5,7 @@
 #include "ffdaabb/scene.h"
 #include "ffdaabb/tasks.h"
 #include "ffdaabb/world.h"
+#include "world/world_data.h"
 
 #include <gtest/gtest.h>
 
@@ -135,6 +136,28 @@ TEST(ThreadCounts, TheContactsListedAreTheSameInTheSameOrderOnOneAndThreeThreads
         objectContacts += !a.bodyB.isNull();
     }
     EXPECT_GT(objectContacts, 100u);
+}
+
+// A pile whose contacts are swept in blocks (bands of the solver's zones, each through all its
+// sweeps before the next: collision/contact.h, SolverSchedule), as piles of more than
+// kBandContacts contacts are: here the spheres with blocks of 128, so that a small scene has
+// several.
+TEST(ThreadCounts, APileSweptInBlocksStepsTheSameOnOneToThreeThreads) {
+    uint64_t hash[3] = {};
+    size_t blocks = 0;
+    for (int threads : {1, 2, 3}) {
+        Scene scene = loadScene("spheres");
+        scene.world.threads = threads;
+        SceneBuild build = buildScene(scene);
+        detail::dataOf(build.world).collision.solver.bandContacts = 128;
+        for (int f = 0; f < 50; ++f) build.world.step();
+        hash[threads - 1] = build.world.stateHash();
+        blocks = detail::dataOf(build.world).collision.solver.schedule.blockCount();
+    }
+    EXPECT_GT(blocks, 2u); // the last substep's schedule
+    EXPECT_EQ(hash[1], hash[0]);
+    EXPECT_EQ(hash[2], hash[0]);
+    EXPECT_NE(hash[0], hashAfter("spheres", 50, 1)) << "the blocks changed nothing";
 }
 
 TEST(ThreadCounts, ChangingTheThreadCountBetweenStepsChangesNothing) {
