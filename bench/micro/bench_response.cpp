@@ -11,8 +11,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
+#include <string>
 
 using namespace ffd;
 
@@ -79,6 +82,48 @@ void BM_ContactResponse(benchmark::State& state) {
     state.counters["contacts"] = double(l.contacts.size());
 }
 
+// BM_ContactResponse on alphabets_x10's contacts between letters that lie in the first
+// 1/parts of the floor along x: the same pile and the same contacts' neighbourhoods, fewer of
+// them. The cost per contact against the strip's size shows what the cache holds (docs/
+// BENCHMARKS.md, "The large pile's sweeps in blocks").
+void BM_ContactResponseStrip(benchmark::State& state) {
+    Landing& l = landing(2);
+    detail::WorldData& w = detail::dataOf(l.build.world);
+    const float dt = w.settings.frameStep / float(w.settings.substeps);
+    detail::CollisionWorld view = detail::collisionView(w);
+    float lo = INFINITY, hi = -INFINITY;
+    for (const detail::CollisionBody& b : view.bodies)
+        lo = std::min(lo, b.bounds.lo.x), hi = std::max(hi, b.bounds.hi.x);
+    const float cut = lo + (hi - lo) / float(state.range(0));
+    auto inStrip = [&](uint32_t b) { return view.bodies[b].bounds.hi.x < cut; };
+    detail::ContactList strip;
+    size_t objects = 0; // the object contacts come first (CollisionState::objectCount)
+    for (size_t n = 0; n < l.contacts.size(); ++n) {
+        const detail::Contact& c = l.contacts[n];
+        const bool object = n < w.collision.objectCount;
+        if (inStrip(c.bodyA) && (!object || inStrip(c.bodyB))) {
+            strip.push_back(c);
+            objects += object;
+        }
+    }
+    const size_t allObjects = w.collision.objectCount;
+    for (auto _ : state) {
+        state.PauseTiming();
+        w.x = l.x;
+        w.v = l.v;
+        w.collision.all = strip;
+        w.collision.objectCount = objects;
+        state.ResumeTiming();
+        detail::respondBeforeMove(view, dt);
+        detail::positionUpdateStage(w, dt);
+        benchmark::DoNotOptimize(detail::respondAfterMove(view, dt));
+    }
+    w.collision.objectCount = allObjects;
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(strip.size()));
+    state.SetLabel("alphabets_x10, 1/" + std::to_string(state.range(0)) + " of the floor");
+    state.counters["contacts"] = double(strip.size());
+}
+
 void BM_ObjectContacts(benchmark::State& state) {
     Landing& l = landing(int(state.range(0)));
     detail::WorldData& w = detail::dataOf(l.build.world);
@@ -102,3 +147,4 @@ void BM_ObjectContacts(benchmark::State& state) {
 
 BENCHMARK(BM_ObjectContacts)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ContactResponse)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ContactResponseStrip)->Arg(1)->Arg(2)->Arg(4)->Arg(10)->Unit(benchmark::kMillisecond);
