@@ -62,24 +62,35 @@ Landing& landing(int index) {
     return l;
 }
 
-void BM_ContactResponse(benchmark::State& state) {
-    Landing& l = landing(int(state.range(0)));
+// Times the response (before the move, the move, after it) to `contacts` on the landing's
+// state, `objects` of them object contacts (CollisionState::objectCount), each iteration from
+// that same state.
+void timeResponse(benchmark::State& state, Landing& l, const detail::ContactList& contacts,
+                  size_t objects) {
     detail::WorldData& w = detail::dataOf(l.build.world);
     const float dt = w.settings.frameStep / float(w.settings.substeps);
     detail::CollisionWorld view = detail::collisionView(w);
+    const size_t landingObjects = w.collision.objectCount;
     for (auto _ : state) {
         state.PauseTiming();
         w.x = l.x;
         w.v = l.v;
-        w.collision.all = l.contacts;
+        w.collision.all = contacts;
+        w.collision.objectCount = objects;
         state.ResumeTiming();
         detail::respondBeforeMove(view, dt);
         detail::positionUpdateStage(w, dt);
         benchmark::DoNotOptimize(detail::respondAfterMove(view, dt));
     }
-    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(l.contacts.size()));
+    w.collision.objectCount = landingObjects;
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(contacts.size()));
+    state.counters["contacts"] = double(contacts.size());
+}
+
+void BM_ContactResponse(benchmark::State& state) {
+    Landing& l = landing(int(state.range(0)));
+    timeResponse(state, l, l.contacts, detail::dataOf(l.build.world).collision.objectCount);
     state.SetLabel(kScenes[state.range(0)]);
-    state.counters["contacts"] = double(l.contacts.size());
 }
 
 // BM_ContactResponse on alphabets_x10's contacts between letters that lie in the first
@@ -88,14 +99,13 @@ void BM_ContactResponse(benchmark::State& state) {
 // BENCHMARKS.md, "The large pile's sweeps in blocks").
 void BM_ContactResponseStrip(benchmark::State& state) {
     Landing& l = landing(2);
-    detail::WorldData& w = detail::dataOf(l.build.world);
-    const float dt = w.settings.frameStep / float(w.settings.substeps);
-    detail::CollisionWorld view = detail::collisionView(w);
+    const detail::WorldData& w = detail::dataOf(l.build.world);
+    const std::span<const detail::CollisionBody> bodies = w.collision.bodies;
     float lo = INFINITY, hi = -INFINITY;
-    for (const detail::CollisionBody& b : view.bodies)
+    for (const detail::CollisionBody& b : bodies)
         lo = std::min(lo, b.bounds.lo.x), hi = std::max(hi, b.bounds.hi.x);
     const float cut = lo + (hi - lo) / float(state.range(0));
-    auto inStrip = [&](uint32_t b) { return view.bodies[b].bounds.hi.x < cut; };
+    auto inStrip = [&](uint32_t b) { return bodies[b].bounds.hi.x < cut; };
     detail::ContactList strip;
     size_t objects = 0; // the object contacts come first (CollisionState::objectCount)
     for (size_t n = 0; n < l.contacts.size(); ++n) {
@@ -106,22 +116,8 @@ void BM_ContactResponseStrip(benchmark::State& state) {
             objects += object;
         }
     }
-    const size_t allObjects = w.collision.objectCount;
-    for (auto _ : state) {
-        state.PauseTiming();
-        w.x = l.x;
-        w.v = l.v;
-        w.collision.all = strip;
-        w.collision.objectCount = objects;
-        state.ResumeTiming();
-        detail::respondBeforeMove(view, dt);
-        detail::positionUpdateStage(w, dt);
-        benchmark::DoNotOptimize(detail::respondAfterMove(view, dt));
-    }
-    w.collision.objectCount = allObjects;
-    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(strip.size()));
+    timeResponse(state, l, strip, objects);
     state.SetLabel("alphabets_x10, 1/" + std::to_string(state.range(0)) + " of the floor");
-    state.counters["contacts"] = double(strip.size());
 }
 
 void BM_ObjectContacts(benchmark::State& state) {
