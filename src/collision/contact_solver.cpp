@@ -132,16 +132,23 @@ std::span<const uint32_t> zoneEnds(const SolverSchedule& schedule) {
     return std::span<const uint32_t>(schedule.zoneStart).subspan(1);
 }
 
-// Calls fn(z) for every zone z of block `block`, on the workers (in any order).
+// Calls fn(z) for every zone z of block `block`, on the workers (in any order): the block's
+// zones of each colour one after the other, handed out in one loop (for one block, every zone
+// in order).
 template <class F>
 void inBlock(const SolverSchedule& schedule, size_t block, Workers& workers, F&& fn) {
-    for (size_t c = 0; c < schedule.colourCount(); ++c) {
-        const uint32_t first = schedule.blockZone(block, c),
-                       last = schedule.blockZone(block + 1, c);
-        workers.forChunks(last - first, 4, [&](size_t from, size_t to, int) {
-            for (size_t z = first + from; z < first + to; ++z) fn(uint32_t(z));
-        });
-    }
+    auto zonesOf = [&](size_t c) {
+        return schedule.blockZone(block + 1, c) - schedule.blockZone(block, c);
+    };
+    size_t count = 0;
+    for (size_t c = 0; c < schedule.colourCount(); ++c) count += zonesOf(c);
+    workers.forChunks(count, 4, [&](size_t from, size_t to, int) {
+        size_t c = 0, before = 0; // the colour of zone k, and the block's zones before it
+        for (size_t k = from; k < to; ++k) {
+            while (k - before >= zonesOf(c)) before += zonesOf(c++);
+            fn(uint32_t(schedule.blockZone(block, c) + (k - before)));
+        }
+    });
 }
 
 // Keeps, zone by zone on the workers, the contacts of the block's zones for which keep(n)
