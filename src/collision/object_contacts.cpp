@@ -538,10 +538,23 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     s.hash.addBatches(std::span(s.hashBatches).first(batches), w.workers);
     s.hash.reserveTable(s.hash.stagedCount()); // nodes of fast bodies lie in several cells
     s.hash.build(&w.workers);
-    // Each object's boxes query the table on the world's threads (the table is read only).
-    w.workers.forRange(n, [&](size_t firstBody, size_t lastBody, int slot) {
+    // Each object's boxes query the table on the world's threads (the table is read only), the
+    // objects in the order of their places on the floor (the solver's zone cells, row after
+    // row), so that the table's blocks one object reads are read again by the next while cached
+    // (SpatialHash::cellKey): in a pile ten times the paper's, whose table outgrows the cache,
+    // that and the blocks took a twelfth off object_contacts. The pairs found are sorted, so
+    // the order changes no result.
+    zoneCells(w, s.sortCells);
+    s.queryOrder.resize(n);
+    for (uint32_t b = 0; b < n; ++b) s.queryOrder[b] = b;
+    std::sort(s.queryOrder.begin(), s.queryOrder.end(), [&](uint32_t a, uint32_t b) {
+        const ZoneCell &ca = s.sortCells[a], &cb = s.sortCells[b];
+        return ca.k != cb.k ? ca.k < cb.k : ca.i != cb.i ? ca.i < cb.i : a < b;
+    });
+    w.workers.forRange(n, [&](size_t first, size_t last, int slot) {
         CollisionState::QueryScratch& q = s.queryScratch[size_t(slot)];
-        for (uint32_t b = uint32_t(firstBody); b < lastBody; ++b) {
+        for (size_t at = first; at < last; ++at) {
+            const uint32_t b = s.queryOrder[at];
             if (!isCandidate(b)) continue;
             const CollisionBody& B = w.bodies[b];
             // Each partner's margin against b's boxes (every other object's for `previous`), and

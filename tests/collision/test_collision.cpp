@@ -546,17 +546,43 @@ TEST(BoxPairKeys, SortLikeStdSort) {
 // The cells of a pile around the origin spread over the buckets as random keys would: a block of
 // 20 x 20 x 20 cells straddling the origin in a table of twice as many buckets fills 78.7 % as
 // many buckets as cells at random. The paper's hash (i 73856093 ^ j 19349663 ^ k 83492791)
-// fills 54.9 % there: the xor of small products of mixed signs lands neighbours together.
+// fills 54.9 % there: the xor of small products of mixed signs lands neighbours together. The
+// same holds of the keys the table takes its buckets from (the blocks of 4 x 4 x 4 cells at
+// random), and of a flat pile and a tall one.
 TEST(SpatialHash, CellsAroundTheOriginSpreadOverTheBuckets) {
-    for (const int lo : {-10, 0, -30}) {
-        const uint32_t cells = 20 * 20 * 20, table = detail::nextPrime(2 * cells + 1);
+    auto fill = [](int lo, int ni, int nj, int nk, auto&& key) {
+        const uint32_t cells = uint32_t(ni * nj * nk), table = detail::nextPrime(2 * cells + 1);
         std::set<uint32_t> buckets;
-        for (int k = lo; k < lo + 20; ++k)
-            for (int j = lo; j < lo + 20; ++j)
-                for (int i = lo; i < lo + 20; ++i)
-                    buckets.insert(detail::SpatialHash::cellHash(i, j, k) % table);
-        EXPECT_GE(double(buckets.size()), 0.75 * cells) << "block from " << lo;
+        for (int k = lo; k < lo + nk; ++k)
+            for (int j = lo; j < lo + nj; ++j)
+                for (int i = lo; i < lo + ni; ++i) buckets.insert(key(i, j, k) % table);
+        return double(buckets.size()) / cells;
+    };
+    for (const int lo : {-10, 0, -30, 7}) {
+        EXPECT_GE(fill(lo, 20, 20, 20, detail::SpatialHash::cellHash), 0.75) << "from " << lo;
+        EXPECT_GE(fill(lo, 20, 20, 20, detail::SpatialHash::cellKey), 0.75) << "from " << lo;
     }
+    EXPECT_GE(fill(-37, 200, 10, 200, detail::SpatialHash::cellKey), 0.75);
+    EXPECT_GE(fill(3, 61, 29, 59, detail::SpatialHash::cellKey), 0.75);
+}
+
+// A block of 4 x 4 x 4 cells (coordinates from a multiple of 4) has 64 consecutive keys, one per
+// cell, so the cells a box's query visits share cache lines of the table; blocks straddling the
+// origin and far from it alike.
+TEST(SpatialHash, ABlocksCellsHaveConsecutiveKeys) {
+    for (const int32_t lo : {-8, -4, 0, 4, 1 << 20, -(1 << 24)}) {
+        std::set<uint32_t> keys;
+        for (int32_t k = lo; k < lo + 4; ++k)
+            for (int32_t j = lo; j < lo + 4; ++j)
+                for (int32_t i = lo; i < lo + 4; ++i)
+                    keys.insert(detail::SpatialHash::cellKey(i, j, k));
+        ASSERT_EQ(keys.size(), 64u) << "block from " << lo;
+        EXPECT_EQ(*keys.rbegin() - *keys.begin(), 63u) << "block from " << lo;
+        EXPECT_EQ(*keys.begin() % 64, 0u) << "block from " << lo;
+    }
+    // Neighbouring blocks do not share keys.
+    EXPECT_NE(detail::SpatialHash::cellKey(0, 0, 0) / 64,
+              detail::SpatialHash::cellKey(4, 0, 0) / 64);
 }
 
 // Items added owner after owner, as the pipeline adds each body's nodes: a bucket's entries come
