@@ -213,7 +213,8 @@ void radixSort(std::vector<T>& items, std::vector<T>& scratch, int keyBits, KeyO
 // time (docs/BENCHMARKS.md). Within a zone the order is the canonical one, as the schedule keeps
 // it, so the sweeps visit the contacts in the same order either way. Left canonical while placed
 // bodies recover (settleOverlaps sums their contacts in order) and where the zones' indices and
-// the canonical key do not fit 64 bits together.
+// the canonical key do not fit 64 bits together. The bodies' zone cells are s.sortCells, as
+// findObjectContacts computed them for its queries.
 void sortContacts(const CollisionWorld& w, std::span<const std::span<const Contact>> sources,
                   ContactList& out) {
     CollisionState& s = w.collision;
@@ -230,7 +231,6 @@ void sortContacts(const CollisionWorld& w, std::span<const std::span<const Conta
     int32_t i0 = 0, k0 = 0;
     bool zoned = s.overlaps.empty() && n > 0;
     if (zoned) {
-        zoneCells(w, s.sortCells);
         lowestZoneCell(s.sortCells, i0, k0);
         int64_t rows = 0, columns = 0;
         for (const ZoneCell& c : s.sortCells)
@@ -296,6 +296,8 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
         s.reach[b] = reachOf(w, w.bodies[b]);
         s.skin[b] = skinOf(w, w.bodies[b]);
     }
+    // Each body's zone cell on the floor: the order of the queries and of the contacts found.
+    zoneCells(w, s.sortCells);
     const size_t slots = size_t(w.workers.count());
     if (s.queryScratch.size() < slots) s.queryScratch.resize(slots);
     for (size_t k = 0; k < slots; ++k) {
@@ -544,7 +546,6 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     // (SpatialHash::cellKey): in a pile ten times the paper's, whose table outgrows the cache,
     // that and the blocks took a twelfth off object_contacts. The pairs found are sorted, so
     // the order changes no result.
-    zoneCells(w, s.sortCells);
     s.queryOrder.resize(n);
     for (uint32_t b = 0; b < n; ++b) s.queryOrder[b] = b;
     std::sort(s.queryOrder.begin(), s.queryOrder.end(), [&](uint32_t a, uint32_t b) {
