@@ -105,13 +105,19 @@ struct ClipVertex {
     Vec3 position, local;
 };
 
-// Sutherland-Hodgman: keeps the part of the polygon with dot(n, p) - offset <= 0.
+// Sutherland-Hodgman: keeps the part of the polygon with dot(n, p) - offset <= 0. Each
+// vertex's distance computed once (not once per edge), no division for the next vertex.
 int clipPolygon(const ClipVertex* in, int count, Vec3 n, float offset, ClipVertex* out) {
+    if (count == 0) return 0;
     int kept = 0;
+    const float first = dot(n, in[0].position) - offset;
+    float db = first;
     for (int i = 0; i < count; ++i) {
         const ClipVertex& a = in[i];
-        const ClipVertex& b = in[(i + 1) % count];
-        const float da = dot(n, a.position) - offset, db = dot(n, b.position) - offset;
+        const bool last = i + 1 == count;
+        const ClipVertex& b = in[last ? 0 : i + 1];
+        const float da = db;
+        db = last ? first : dot(n, b.position) - offset;
         if (da <= 0) out[kept++] = a;
         if ((da <= 0) != (db <= 0)) {
             const float t = da / (da - db);
@@ -164,17 +170,19 @@ BoxPairManifold boxPairManifold(const BoxView& first, const BoxView& second, flo
     const BoxView* boxes[2] = {&first, &second};
     // Separation of the other box from each face plane of each box: the least signed distance
     // of the other's nodes.
+    // The first box's planes before the second's are computed: most pairs tested are apart
+    // along one of them.
     float separation[2][8];
-    for (int r = 0; r < 2; ++r)
-        leastSeparations(*boxes[r]->planes, boxes[1 - r]->nodes, separation[r]);
     float farthest = -INFINITY;
     int farthestBox = 0, farthestFace = 0;
-    for (int r = 0; r < 2; ++r)
+    for (int r = 0; r < 2; ++r) {
+        leastSeparations(*boxes[r]->planes, boxes[1 - r]->nodes, separation[r]);
         for (int f = 0; f < 6; ++f) {
             const float s = separation[r][f];
             if (!(s < margin)) return m; // apart along this plane by more than the margin
             if (s > farthest) farthest = s, farthestBox = r, farthestFace = f;
         }
+    }
     auto exits = [&](int r) { return exitFaces(boxes[r]->outsideFaces); };
     // Apart along a plane that leads into the neighbouring cell of its body: that cell's box
     // is what the other box meets.

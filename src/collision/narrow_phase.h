@@ -19,6 +19,7 @@
 
 #include "ffdaabb/lattice.h"
 #include "ffdaabb/math.h"
+#include "util/unwritten.h"
 
 namespace ffd::detail {
 
@@ -103,8 +104,9 @@ struct BoxPairManifold {
     int count = 0;
     /// The clipped face's points (at most four, on `normal`), then the side points: incident
     /// nodes below the reference plane but beside one of its outside side faces, within the
-    /// margin of it, on that face's normal (at most four).
-    ManifoldPoint point[8];
+    /// margin of it, on that face's normal (at most four). Only the first `count` are written:
+    /// most pairs tested have none, and filling the eight took 3 % of the box-pair test.
+    Unwritten<ManifoldPoint, 8> point;
     /// How deep the pair can show its boxes overlap: when the plane of least overlap of all
     /// twelve leads into the neighbouring cell of its body, that overlap (>= 0), since the rest
     /// of the overlap along the normal lies across that plane, where the neighbouring cell's box

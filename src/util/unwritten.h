@@ -14,7 +14,9 @@ struct Unwritten {
     static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
     alignas(T) unsigned char bytes[sizeof(T) * N];
     T* data() { return reinterpret_cast<T*>(bytes); }
+    const T* data() const { return reinterpret_cast<const T*>(bytes); }
     T& operator[](int i) { return data()[i]; }
+    const T& operator[](int i) const { return data()[i]; }
 };
 
 } // namespace ffd::detail
