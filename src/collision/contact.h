@@ -312,6 +312,12 @@ struct RigidPoint {
     float target = 0;   ///< rigid normal velocity the phase aims at
     float normalImpulse = 0;
     float rigidity = 0; ///< the contact's rigidity, ramped by its approach speed
+    // The contact's fields the rigid phase's sweeps read, copied here so that a sweep reads
+    // the point alone, not the contact it stands for as well: in a pile ten times the paper's,
+    // the response took 0.95 of its time (docs/BENCHMARKS.md).
+    Vec3 normal;
+    float approachSpeed = 0;
+    uint32_t bodyA = 0, bodyB = UINT32_MAX; ///< bodyB UINT32_MAX: no body B (the floor)
     // The projection on rigid modes (projectRigidModes): the arms, the tangential slip of the
     // bodies' rigid motion in the move, and its static-friction impulse (times dt).
     Vec3 rA, rB, slip, tangent;

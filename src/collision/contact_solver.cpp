@@ -559,6 +559,10 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
         RigidPoint& p = points[j];
         p.rigidity = rigidityOf(c);
         p.normalImpulse = 0;
+        p.normal = c.normal;
+        p.approachSpeed = c.approachSpeed;
+        p.bodyA = c.bodyA;
+        p.bodyB = c.hasB ? c.bodyB : UINT32_MAX;
         const RigidState& A = states[c.bodyA];
         const Vec3 pa = blend(c.a, boxes, x), pb = c.hasB ? blend(c.b, boxes, x) : Vec3{};
         setNormalResponse(c, states, pa, pb, p);
@@ -598,22 +602,21 @@ void solveRigidPhase(std::span<Contact> contacts, std::span<const BoxParticles> 
     };
     inEveryZone(prepare);
     auto sweep = [&](uint32_t j) {
-        const Contact& c = contacts[impacts[j]];
         RigidPoint& p = points[j];
         if (p.invK == 0) return;
-        RigidState& A = states[c.bodyA];
+        RigidState& A = states[p.bodyA];
         // Normal relative velocity: base + (dv_A + dw_A x r_A) . n - (B's), with
         // (w x r) . n = w . (r x n).
-        float vn = c.approachSpeed + dot(A.dv, c.normal) + dot(A.dw, p.armA);
-        RigidState* B = c.hasB ? &states[c.bodyB] : nullptr;
-        if (B) vn -= dot(B->dv, c.normal) + dot(B->dw, p.armB);
+        float vn = p.approachSpeed + dot(A.dv, p.normal) + dot(A.dw, p.armA);
+        RigidState* B = p.bodyB != UINT32_MAX ? &states[p.bodyB] : nullptr;
+        if (B) vn -= dot(B->dv, p.normal) + dot(B->dw, p.armB);
         const float old = p.normalImpulse;
         p.normalImpulse = maxNum(old + (p.target - vn) * p.invK, 0.0f);
         const float d = p.normalImpulse - old;
-        A.dv += c.normal * (d * p.invMassA);
+        A.dv += p.normal * (d * p.invMassA);
         A.dw += p.turnA * d;
         if (B) {
-            B->dv -= c.normal * (d * p.invMassB);
+            B->dv -= p.normal * (d * p.invMassB);
             B->dw -= p.turnB * d;
         }
     };
