@@ -165,6 +165,7 @@ void SpatialHash::build(Workers* workers) {
             probes_[at] = {e.position.x, e.position.y, e.position.z, reach_[e.owner]};
         }
     });
+    prefetchRun_ = entries_.size() >= kPrefetchRunsFrom ? kPrefetchRun : 1;
 }
 
 } // namespace ffd::detail

@@ -389,8 +389,11 @@ private:
                 uint32_t first, end;
                 b.unskipped(skipOwner, first, end);
                 if (end <= first) continue;
-                __builtin_prefetch(probes_.data() + first);
-                __builtin_prefetch(entries_.data() + first);
+                // The range's probes and entries, the first line of each or, in a table that
+                // outgrows the cache, up to kPrefetchRun entries' lines.
+                const uint32_t last = std::min(end, first + prefetchRun_);
+                for (uint32_t e = first; e < last; e += 4) __builtin_prefetch(probes_.data() + e);
+                for (uint32_t e = first; e < last; e += 2) __builtin_prefetch(entries_.data() + e);
                 liveFirst[lives] = first;
                 liveEnd[lives] = end;
                 liveCell[lives++] = m;
@@ -477,6 +480,15 @@ private:
     /// less the allowance).
     std::vector<float> reach_, extent_;
     float allowance_ = 0;
+    /// How many of a scanned range's entries forEachLiveCell prefetches: 1 (one line of probes
+    /// and one of entries), or kPrefetchRun when the table holds kPrefetchRunsFrom entries or
+    /// more (build). Measured interleaved frame by frame: alphabets_x10 (about 485,000 entries,
+    /// 23 MB of entries and probes) took 0.967-0.973 of its object_contacts time with 16 or 32,
+    /// 0.983 with 8 and 0.975 with a whole range; the spheres (about 20,000) 1.005-1.008 with 32,
+    /// the alphabets (40,000-60,000) 0.987 and 1.003.
+    static constexpr uint32_t kPrefetchRun = 32;
+    static constexpr size_t kPrefetchRunsFrom = size_t(1) << 18;
+    uint32_t prefetchRun_ = 1;
     uint32_t stamp_ = 0;
     uint64_t modMagic_ = 0;  ///< ceil(2^64 / T)
     uint32_t tableSize_ = 1; ///< T
