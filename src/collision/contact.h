@@ -464,8 +464,7 @@ struct CollisionState {
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.
     std::vector<std::span<const Contact>> sortSpans;
     std::vector<const Contact*> sortSources;
-    std::vector<ZoneCell>
-        sortCells; ///< per body, its zone cell: the queries' and the contacts' order
+    std::vector<ZoneCell> sortCells;  ///< per body, its zone cell: queries' and contacts' order
     std::vector<uint32_t> queryOrder; ///< the bodies in the order their boxes query the table
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys, sortKeyScratch;
     ContactList sortScratch;
