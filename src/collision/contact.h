@@ -284,7 +284,8 @@ struct SolverScratch {
     /// The contacts the later sweeps visit, and the rigid phase's impacts: zone z's at
     /// [schedule.zoneStart[z], activeEnd[z]) (impactEnd[z]).
     std::vector<uint32_t> active, activeEnd, impacts, impactEnd;
-    std::vector<ZoneCell> cells; ///< per body, for the schedule
+    std::vector<ZoneCell> cells; ///< per body, its zone cell (findObjectContacts): the order of
+                                 ///< the queries, of the contacts and of the schedule
     SolverSchedule schedule;
     /// The contacts of a block of the schedule (buildSolverSchedule); tests set fewer, to sweep
     /// a small pile in blocks.
@@ -464,7 +465,6 @@ struct CollisionState {
     // Scratch of the canonical sort: where the contacts come from, their keys, the result.
     std::vector<std::span<const Contact>> sortSpans;
     std::vector<const Contact*> sortSources;
-    std::vector<ZoneCell> sortCells;  ///< per body, its zone cell: queries' and contacts' order
     std::vector<uint32_t> queryOrder; ///< the bodies in the order their boxes query the table
     std::vector<std::pair<uint64_t, uint32_t>> sortKeys, sortKeyScratch;
     ContactList sortScratch;

@@ -213,7 +213,7 @@ void radixSort(std::vector<T>& items, std::vector<T>& scratch, int keyBits, KeyO
 // time (docs/BENCHMARKS.md). Within a zone the order is the canonical one, as the schedule keeps
 // it, so the sweeps visit the contacts in the same order either way. Left canonical while placed
 // bodies recover (settleOverlaps sums their contacts in order) and where the zones' indices and
-// the canonical key do not fit 64 bits together. The bodies' zone cells are s.sortCells, as
+// the canonical key do not fit 64 bits together. The bodies' zone cells are s.solver.cells, as
 // findObjectContacts computed them for its queries.
 void sortContacts(const CollisionWorld& w, std::span<const std::span<const Contact>> sources,
                   ContactList& out) {
@@ -231,9 +231,9 @@ void sortContacts(const CollisionWorld& w, std::span<const std::span<const Conta
     int32_t i0 = 0, k0 = 0;
     bool zoned = s.overlaps.empty() && n > 0;
     if (zoned) {
-        lowestZoneCell(s.sortCells, i0, k0);
+        lowestZoneCell(s.solver.cells, i0, k0);
         int64_t rows = 0, columns = 0;
-        for (const ZoneCell& c : s.sortCells)
+        for (const ZoneCell& c : s.solver.cells)
             if (c.i != ZoneCell::kNowhere)
                 rows = std::max(rows, int64_t(c.i) - i0),
                 columns = std::max(columns, int64_t(c.k) - k0);
@@ -250,7 +250,8 @@ void sortContacts(const CollisionWorld& w, std::span<const std::span<const Conta
             from[at[k] + i] = &c;
             uint64_t key = uint64_t(c.nodeA) << bits | c.boxB;
             if (zoned) {
-                const uint32_t zone = zoneKey(s.sortCells[c.bodyA], s.sortCells[c.bodyB], i0, k0);
+                const uint32_t zone =
+                    zoneKey(s.solver.cells[c.bodyA], s.solver.cells[c.bodyB], i0, k0);
                 // Colour (the tail's 4, its indices 0), row, column, each in its own bits.
                 const uint64_t place =
                     uint64_t(zone >> 2 * kZoneIndexBits) << (rowBits + columnBits) |
@@ -280,6 +281,9 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     CollisionState& s = w.collision;
     const uint32_t n = uint32_t(w.bodies.size());
     s.nextClaims.clear();
+    // Each body's zone cell on the floor: the order of the queries, of the contacts found and of
+    // the solver's schedule (respondBeforeMove reads them), so computed even with nothing to find.
+    zoneCells(w, s.solver.cells);
     if (mode == CollisionMode::None || n < 2) return;
 
     // Box planes are built on first use in a step: most boxes never meet another body's node.
@@ -296,8 +300,6 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
         s.reach[b] = reachOf(w, w.bodies[b]);
         s.skin[b] = skinOf(w, w.bodies[b]);
     }
-    // Each body's zone cell on the floor: the order of the queries and of the contacts found.
-    zoneCells(w, s.sortCells);
     const size_t slots = size_t(w.workers.count());
     if (s.queryScratch.size() < slots) s.queryScratch.resize(slots);
     for (size_t k = 0; k < slots; ++k) {
@@ -549,7 +551,7 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
     s.queryOrder.resize(n);
     for (uint32_t b = 0; b < n; ++b) s.queryOrder[b] = b;
     std::sort(s.queryOrder.begin(), s.queryOrder.end(), [&](uint32_t a, uint32_t b) {
-        const ZoneCell &ca = s.sortCells[a], &cb = s.sortCells[b];
+        const ZoneCell &ca = s.solver.cells[a], &cb = s.solver.cells[b];
         return ca.k != cb.k ? ca.k < cb.k : ca.i != cb.i ? ca.i < cb.i : a < b;
     });
     w.workers.forRange(n, [&](size_t first, size_t last, int slot) {

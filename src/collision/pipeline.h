@@ -63,7 +63,8 @@ struct ObjectContactCounts {
 };
 
 /// Phases 2-3 for `mode` (Enhanced uses world.collision.pairs from sphereTest): fills `out`
-/// with the contacts in canonical order, and `counts`.
+/// with the contacts in canonical order, and `counts`. Also sets the bodies' zone cells
+/// (world.collision.solver.cells), whatever the mode, for the response of the same substep.
 void findObjectContacts(CollisionWorld& world, CollisionMode mode, ContactList& out,
                         ObjectContactCounts& counts);
 
@@ -82,7 +83,7 @@ void sortBoxPairKeys(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch
 void zoneCells(const CollisionWorld& world, std::vector<ZoneCell>& cells);
 
 /// The response before the position update: pre-stabilisation and the rigid phase (see
-/// collision/contact.h).
+/// collision/contact.h). Reads the zone cells findObjectContacts set this substep.
 void respondBeforeMove(CollisionWorld& world, float dt);
 
 /// The response after the position update: projection with velocities following, then the

@@ -30,9 +30,13 @@ void zoneCells(const CollisionWorld& w, std::vector<ZoneCell>& cells) {
 
 namespace {
 
+// The bodies' zone cells are those findObjectContacts computed this substep: their bounds have
+// not changed since node_update.
 void scheduleContacts(CollisionWorld& w) {
     CollisionState& s = w.collision;
-    zoneCells(w, s.solver.cells);
+    FFD_CHECK(s.solver.cells.size() == w.bodies.size(),
+              "solver schedule: " + std::to_string(s.solver.cells.size()) + " zone cells for " +
+                  std::to_string(w.bodies.size()) + " bodies (object contacts not found first)");
     buildSolverSchedule(s.all, s.solver.cells, s.solver.schedule, w.workers, s.solver.bandContacts);
 }
 
