@@ -99,6 +99,76 @@ Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
     return l;
 }
 
+void invertTrilinear4(const Vec3 c[8], const Vec3* p, Vec3* local, int count, int iterations) {
+    // Unused lanes repeat the first point: their work is thrown away.
+    auto lanes = [&](const Vec3* v, F4& x, F4& y, F4& z) {
+        for (int k = 0; k < 4; ++k) {
+            const Vec3& a = v[k < count ? k : 0];
+            x[k] = a.x, y[k] = a.y, z[k] = a.z;
+        }
+    };
+    F4 px, py, pz, lx, ly, lz;
+    lanes(p, px, py, pz);
+    lanes(local, lx, ly, lz);
+    // The corners' differences along each axis, as invertTrilinear's partial derivatives take
+    // them (the same floats however often they are formed).
+    struct Splat {
+        F4 x, y, z;
+    };
+    auto splat3 = [](Vec3 v) { return Splat{splat(v.x), splat(v.y), splat(v.z)}; };
+    Splat cs[8];
+    for (int k = 0; k < 8; ++k) cs[k] = splat3(c[k]);
+    const Splat e10 = splat3(c[1] - c[0]), e32 = splat3(c[3] - c[2]), e54 = splat3(c[5] - c[4]),
+                e76 = splat3(c[7] - c[6]);
+    const Splat e20 = splat3(c[2] - c[0]), e31 = splat3(c[3] - c[1]), e64 = splat3(c[6] - c[4]),
+                e75 = splat3(c[7] - c[5]);
+    const Splat e40 = splat3(c[4] - c[0]), e51 = splat3(c[5] - c[1]), e62 = splat3(c[6] - c[2]),
+                e73 = splat3(c[7] - c[3]);
+    const F4 one = splat(1.0f);
+    I4 active = {-1, -1, -1, -1};
+    for (int it = 0; it < iterations; ++it) {
+        const F4 s = lx, t = ly, u = lz;
+        const F4 s0 = one - s, t0 = one - t, u0 = one - u;
+        const F4 w[8] = {s0 * t0 * u0, s * t0 * u0, s0 * t * u0, s * t * u0,
+                         s0 * t0 * u,  s * t0 * u,  s0 * t * u,  s * t * u};
+        F4 fx = -px, fy = -py, fz = -pz;
+        for (int k = 0; k < 8; ++k) {
+            fx = fx + cs[k].x * w[k];
+            fy = fy + cs[k].y * w[k];
+            fz = fz + cs[k].z * w[k];
+        }
+        auto partial = [](const Splat& a, const Splat& b, const Splat& c2, const Splat& d, F4 fa,
+                          F4 fb, F4 fc, F4 fd) {
+            return Splat{a.x * fa + b.x * fb + c2.x * fc + d.x * fd,
+                         a.y * fa + b.y * fb + c2.y * fc + d.y * fd,
+                         a.z * fa + b.z * fb + c2.z * fc + d.z * fd};
+        };
+        const Splat ds =
+            partial(e10, e32, e54, e76, (one - t) * (one - u), t * (one - u), (one - t) * u, t * u);
+        const Splat dt =
+            partial(e20, e31, e64, e75, (one - s) * (one - u), s * (one - u), (one - s) * u, s * u);
+        const Splat du =
+            partial(e40, e51, e62, e73, (one - s) * (one - t), s * (one - t), (one - s) * t, s * t);
+        auto cross3 = [](const Splat& a, const Splat& b) {
+            return Splat{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+        };
+        const Splat r0 = cross3(dt, du), r1 = cross3(du, ds), r2 = cross3(ds, dt);
+        const F4 det = ds.x * r0.x + ds.y * r0.y + ds.z * r0.z;
+        active &= abs4(det) > splat(1e-30f); // inverse's test: a lane without one stops here
+        if (!any(active)) break;
+        const F4 inv = one / det;
+        const F4 sx = (r0.x * inv) * fx + (r0.y * inv) * fy + (r0.z * inv) * fz;
+        const F4 sy = (r1.x * inv) * fx + (r1.y * inv) * fy + (r1.z * inv) * fz;
+        const F4 sz = (r2.x * inv) * fx + (r2.y * inv) * fy + (r2.z * inv) * fz;
+        lx = select(active, lx - sx, lx);
+        ly = select(active, ly - sy, ly);
+        lz = select(active, lz - sz, lz);
+        active &= ~(sx * sx + sy * sy + sz * sz < splat(1e-12f)); // float precision reached
+        if (!any(active)) break;
+    }
+    for (int k = 0; k < count; ++k) local[k] = {lx[k], ly[k], lz[k]};
+}
+
 namespace {
 
 struct ClipVertex {

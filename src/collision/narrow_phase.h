@@ -78,6 +78,11 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
 /// i + 2j + 4k), by Newton's method from `guess`; returns the best iterate.
 Vec3 invertTrilinear(const Vec3 corners[8], Vec3 p, Vec3 guess, int iterations = 6);
 
+/// invertTrilinear for `count` (1 to 4) points of one map at once, in vector lanes: local[k]
+/// (the guess on entry) becomes invertTrilinear(corners, p[k], local[k], iterations), bit for
+/// bit, each lane the same arithmetic in the same order and stopping where it would.
+void invertTrilinear4(const Vec3 corners[8], const Vec3* p, Vec3* local, int count, int iterations);
+
 /// One cell box for the box-pair test: its 8 nodes (node n = i + 2j + 4k), their local
 /// coordinates in the box's lattice cell, its face planes and its outside faces (BoxFace bits).
 struct BoxView {

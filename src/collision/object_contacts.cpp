@@ -33,29 +33,36 @@ constexpr uint64_t kNoKey = ~uint64_t(0);
 // Marks a hash item that stands for its box's centre rather than one of its nodes.
 constexpr uint32_t kCentreItem = 0x80000000u;
 
-// Local coordinates, in the cell of box `box` of body B, of point q (on or near the box):
-// the box's trilinear map inverted by Newton, started from its linearised map (close for all
-// but thin, strongly deformed boxes), kept within the box.
-Vec3 locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
-                 const BoxPlanes& planes, Vec3 q) {
+// Local coordinates, in the cell of box `box` of body B, of the `count` points q (on or near
+// the box): the box's trilinear map inverted by Newton, started from its linearised map (close
+// for all but thin, strongly deformed boxes), kept within the box. Four points at a time, in
+// vector lanes (invertTrilinear4): a manifold's points all lie on its reference box.
+void locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
+                 const BoxPlanes& planes, const Vec3* q, int count, Vec3* local) {
+    if (count == 0) return;
     const Lattice& LB = *B.lattice;
     const CellBox& boxB = LB.boxes[box - B.firstBox];
     const auto& cornersB = LB.cellParticles[boxB.cell];
     Vec3 corners[8];
     for (int k = 0; k < 8; ++k) corners[k] = w.x[B.firstParticle + cornersB[k]];
-    Vec3 abc = max(Vec3{0, 0, 0}, min(boxParameters(planes, q), Vec3{1, 1, 1}));
-    if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
-    Vec3 local = invertTrilinear(corners, q, boxB.lo + mul(boxB.hi - boxB.lo, abc), 3);
-    if (!isFinite(local)) local = (boxB.lo + boxB.hi) * 0.5f;
-    return max(boxB.lo, min(local, boxB.hi));
+    for (int k = 0; k < count; ++k) {
+        Vec3 abc = max(Vec3{0, 0, 0}, min(boxParameters(planes, q[k]), Vec3{1, 1, 1}));
+        if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
+        local[k] = boxB.lo + mul(boxB.hi - boxB.lo, abc);
+    }
+    for (int k = 0; k < count; k += 4)
+        invertTrilinear4(corners, q + k, local + k, std::min(4, count - k), 3);
+    for (int k = 0; k < count; ++k) {
+        if (!isFinite(local[k])) local[k] = (boxB.lo + boxB.hi) * 0.5f;
+        local[k] = max(boxB.lo, min(local[k], boxB.hi));
+    }
 }
 
-// A contact between body A's point at `localA` in the cell of box `boxA` and body B's box
-// `box`, pushing A along `normal`; `distance` is the signed distance to B's face plane and
-// `q` the point on it.
+// A contact between body A's point at `localA` in the cell of box `boxA` and body B's point at
+// `localB` in the cell of box `box`, pushing A along `normal`; `distance` is the signed
+// distance to B's face plane.
 Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA, Vec3 localA,
-                          uint32_t bodyB, uint32_t box, Vec3 normal, float distance, Vec3 q,
-                          const BoxPlanes& planes) {
+                          uint32_t bodyB, uint32_t box, Vec3 localB, Vec3 normal, float distance) {
     const CollisionBody& A = w.bodies[bodyA];
     const CollisionBody& B = w.bodies[bodyB];
     Contact c;
@@ -71,7 +78,7 @@ Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA
     c.rigidity = 0.5f * (A.contactRigidity + B.contactRigidity);
     const std::span<const BoxParticles> boxes = w.collision.boxParticles;
     makeContactPoint(boxA, localA, boxes, w.invMass, c.a, c.invMassA);
-    makeContactPoint(box, locateInBox(w, B, box, planes, q), boxes, w.invMass, c.b, c.invMassB);
+    makeContactPoint(box, localB, boxes, w.invMass, c.b, c.invMassB);
     return c;
 }
 
@@ -123,24 +130,37 @@ int emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactLi
         };
         const float refSpeed = refSpeedAlong(m.normal);
         const float skin = s.skin[body[ref]];
+        // Which points become contacts (B's points are located together afterwards), and for
+        // those left out, their approach.
+        bool kept[8];
+        float approachOf[8];
+        Unwritten<Vec3, 8> va, onFace, localB; // each read only where written below
+        int keptCount = 0;
         for (int k = 0; k < m.count; ++k) {
             const ManifoldPoint& pt = m.point[k];
             // A's point, as its contact will have it.
-            const Vec3 va = blend(ContactPoint{box[inc], pt.local}, s.boxParticles, w.v);
+            va[k] = blend(ContactPoint{box[inc], pt.local}, s.boxParticles, w.v);
+            kept[k] = true;
             if (pt.distance > skin) {
                 const float speed = pt.normal == m.normal ? refSpeed : refSpeedAlong(pt.normal);
-                const float approach = maxNum(0.0f, speed - dot(va, pt.normal));
-                if (pt.distance > speculativeReach(skin, approach, w.substep)) {
-                    closing = maxNum(closing, approach);
-                    continue;
-                }
+                approachOf[k] = maxNum(0.0f, speed - dot(va[k], pt.normal));
+                kept[k] = !(pt.distance > speculativeReach(skin, approachOf[k], w.substep));
             }
+            if (kept[k]) onFace[keptCount++] = pt.position - pt.normal * pt.distance;
+        }
+        const CollisionBody& R = w.bodies[body[ref]];
+        locateInBox(w, R, box[ref], *view[ref].planes, onFace.data(), keptCount, localB.data());
+        for (int k = 0, at = 0; k < m.count; ++k) {
+            if (!kept[k]) {
+                closing = maxNum(closing, approachOf[k]);
+                continue;
+            }
+            const ManifoldPoint& pt = m.point[k];
             Contact c = makeObjectContact(w, body[inc], box[inc], pt.local, body[ref], box[ref],
-                                          pt.normal, pt.distance,
-                                          pt.position - pt.normal * pt.distance, *view[ref].planes);
+                                          localB[at++], pt.normal, pt.distance);
             c.nodeA = box[inc] * 8 + uint32_t(k);
             deepest = maxNum(deepest, -pt.distance);
-            closing = maxNum(closing, -dot(va - blend(c.b, s.boxParticles, w.v), c.normal));
+            closing = maxNum(closing, -dot(va[k] - blend(c.b, s.boxParticles, w.v), c.normal));
             contacts.push_back(c);
         }
         // What the pair may claim: all its overlap, unless its boxes overlap least across

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstring>
 #include <random>
 #include <set>
 
@@ -319,6 +321,42 @@ TEST(NarrowPhase, TrilinearInversionRecoversLocalCoordinates) {
         const Vec3 got = detail::invertTrilinear(corners, p, {0.5f, 0.5f, 0.5f});
         EXPECT_LE(length(got - local), 1e-4f);
     }
+}
+
+// The four-lane inversion gives every lane what the scalar one gives its point, bit for bit:
+// points inside and far outside a strongly deformed cell, guesses near and far, a cell too flat
+// to invert (the scalar one stops at once), one to four points, three and six iterations.
+TEST(NarrowPhase, TrilinearInversionInLanesIsTheScalarOneBitForBit) {
+    Vec3 warped[8], flat[8];
+    axisBox({0, 0, 0}, {1, 1, 1}, warped);
+    const test::SmoothDeformation warp(7, 1.0f, 0.3f);
+    for (Vec3& c : warped) c = warp(c) * 0.9f;
+    axisBox({0, 0, 0}, {1, 1, 1}, flat);
+    for (Vec3& c : flat) c.y = 0; // no volume: no Jacobian to invert
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.5f, 1.5f);
+    auto bits = [](Vec3 v) {
+        uint32_t b[3];
+        std::memcpy(b, &v, sizeof b);
+        return std::array<uint32_t, 3>{b[0], b[1], b[2]};
+    };
+    int compared = 0;
+    for (const Vec3* corners : {static_cast<const Vec3*>(warped), static_cast<const Vec3*>(flat)})
+        for (int iterations : {3, 6})
+            for (int count = 1; count <= 4; ++count)
+                for (int trial = 0; trial < 200; ++trial) {
+                    Vec3 p[4], guess[4], local[4];
+                    for (int k = 0; k < count; ++k) {
+                        p[k] = Vec3{u(rng), u(rng), u(rng)} * (trial % 10 == 0 ? 20.0f : 1.0f);
+                        guess[k] = local[k] = Vec3{u(rng), u(rng), u(rng)};
+                    }
+                    detail::invertTrilinear4(corners, p, local, count, iterations);
+                    for (int k = 0; k < count; ++k, ++compared)
+                        ASSERT_EQ(bits(local[k]), bits(detail::invertTrilinear(
+                                                      corners, p[k], guess[k], iterations)))
+                            << "point " << k << " of " << count << ", trial " << trial;
+                }
+    EXPECT_EQ(compared, 2 * 2 * (1 + 2 + 3 + 4) * 200);
 }
 
 TEST(SpatialHash, FastModIsTheRemainder) {
