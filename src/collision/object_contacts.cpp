@@ -36,7 +36,8 @@ constexpr uint32_t kCentreItem = 0x80000000u;
 // Local coordinates, in the cell of box `box` of body B, of the `count` points q (on or near
 // the box): the box's trilinear map inverted by Newton, started from its linearised map (close
 // for all but thin, strongly deformed boxes), kept within the box. Four points at a time, in
-// vector lanes (invertTrilinear4): a manifold's points all lie on its reference box.
+// vector lanes (invertTrilinear4): a manifold's points all lie on its reference box. A lone
+// point goes alone (the lanes' setup is not worth it; the result is the same either way).
 void locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
                  const BoxPlanes& planes, const Vec3* q, int count, Vec3* local) {
     if (count == 0) return;
@@ -50,8 +51,12 @@ void locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
         if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
         local[k] = boxB.lo + mul(boxB.hi - boxB.lo, abc);
     }
-    for (int k = 0; k < count; k += 4)
-        invertTrilinear4(corners, q + k, local + k, std::min(4, count - k), 3);
+    for (int k = 0; k < count; k += 4) {
+        if (count - k == 1)
+            local[k] = invertTrilinear(corners, q[k], local[k], 3);
+        else
+            invertTrilinear4(corners, q + k, local + k, std::min(4, count - k), 3);
+    }
     for (int k = 0; k < count; ++k) {
         if (!isFinite(local[k])) local[k] = (boxB.lo + boxB.hi) * 0.5f;
         local[k] = max(boxB.lo, min(local[k], boxB.hi));
