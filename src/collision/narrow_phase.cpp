@@ -143,12 +143,9 @@ void invertTrilinear4(const Vec3 c[8], const Vec3* p, Vec3* local, int count, in
                          a.y * fa + b.y * fb + c2.y * fc + d.y * fd,
                          a.z * fa + b.z * fb + c2.z * fc + d.z * fd};
         };
-        const Splat ds =
-            partial(e10, e32, e54, e76, (one - t) * (one - u), t * (one - u), (one - t) * u, t * u);
-        const Splat dt =
-            partial(e20, e31, e64, e75, (one - s) * (one - u), s * (one - u), (one - s) * u, s * u);
-        const Splat du =
-            partial(e40, e51, e62, e73, (one - s) * (one - t), s * (one - t), (one - s) * t, s * t);
+        const Splat ds = partial(e10, e32, e54, e76, t0 * u0, t * u0, t0 * u, t * u);
+        const Splat dt = partial(e20, e31, e64, e75, s0 * u0, s * u0, s0 * u, s * u);
+        const Splat du = partial(e40, e51, e62, e73, s0 * t0, s * t0, s0 * t, s * t);
         auto cross3 = [](const Splat& a, const Splat& b) {
             return Splat{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
         };

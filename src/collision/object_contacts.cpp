@@ -36,8 +36,7 @@ constexpr uint32_t kCentreItem = 0x80000000u;
 // Local coordinates, in the cell of box `box` of body B, of the `count` points q (on or near
 // the box): the box's trilinear map inverted by Newton, started from its linearised map (close
 // for all but thin, strongly deformed boxes), kept within the box. Four points at a time, in
-// vector lanes (invertTrilinear4): a manifold's points all lie on its reference box. A lone
-// point goes alone (the lanes' setup is not worth it; the result is the same either way).
+// vector lanes (invertTrilinear4): a manifold's points all lie on its reference box.
 void locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
                  const BoxPlanes& planes, const Vec3* q, int count, Vec3* local) {
     if (count == 0) return;
@@ -51,12 +50,8 @@ void locateInBox(const CollisionWorld& w, const CollisionBody& B, uint32_t box,
         if (!isFinite(abc)) abc = {0.5f, 0.5f, 0.5f};
         local[k] = boxB.lo + mul(boxB.hi - boxB.lo, abc);
     }
-    for (int k = 0; k < count; k += 4) {
-        if (count - k == 1)
-            local[k] = invertTrilinear(corners, q[k], local[k], 3);
-        else
-            invertTrilinear4(corners, q + k, local + k, std::min(4, count - k), 3);
-    }
+    for (int k = 0; k < count; k += 4)
+        invertTrilinear4(corners, q + k, local + k, std::min(4, count - k), 3);
     for (int k = 0; k < count; ++k) {
         if (!isFinite(local[k])) local[k] = (boxB.lo + boxB.hi) * 0.5f;
         local[k] = max(boxB.lo, min(local[k], boxB.hi));
@@ -87,15 +82,16 @@ Contact makeObjectContact(const CollisionWorld& w, uint32_t bodyA, uint32_t boxA
     return c;
 }
 
+// emitPairs' keys are sorted by their first box, so each pair's second box comes from anywhere
+// in the world: its nodes, planes and particles' indices are prefetched this many pairs ahead.
+// Measured interleaved frame by frame (docs/BENCHMARKS.md): `object_contacts` 0.976-0.978 of
+// its time on alphabets_x10, whose boxes' data no cache holds, 0.964 on the teapots, 0.973-1.003
+// on the alphabets, 0.988-0.995 on the spheres, 1.00 on the dragons.
+constexpr size_t kPrefetchPairs = 4;
+
 // Tests the box pairs `keys` (sorted), each once: its manifold's points become contacts, and
 // what the pair may claim (from the last substep's claims) a claim, appended to `contacts` and
 // `claims`; returns how many pairs gave a contact.
-// The keys are sorted by their first box, so each pair's second box comes from anywhere in the
-// world: its nodes, planes and particles' indices are prefetched this many pairs ahead. Measured
-// interleaved frame by frame (docs/BENCHMARKS.md): `object_contacts` 0.976-0.978 of its time on
-// alphabets_x10, whose boxes' data no cache holds, 0.964 on the teapots, 0.973-1.003 on the
-// alphabets, 0.988-0.995 on the spheres, 1.00 on the dragons.
-constexpr size_t kPrefetchPairs = 4;
 int emitPairs(const CollisionWorld& w, std::span<const uint64_t> keys, ContactList& contacts,
               std::vector<BoxPairClaim>& claims) {
     const CollisionState& s = w.collision;
