@@ -75,30 +75,6 @@ NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_
     return hit;
 }
 
-Vec3 invertTrilinear(const Vec3 c[8], Vec3 p, Vec3 guess, int iterations) {
-    Vec3 l = guess;
-    for (int it = 0; it < iterations; ++it) {
-        const float s = l.x, t = l.y, u = l.z;
-        float w[8];
-        trilinearWeights(l, w);
-        Vec3 f = -p;
-        for (int k = 0; k < 8; ++k) f += c[k] * w[k];
-        // Partial derivatives of the trilinear map.
-        const Vec3 ds = (c[1] - c[0]) * ((1 - t) * (1 - u)) + (c[3] - c[2]) * (t * (1 - u)) +
-                        (c[5] - c[4]) * ((1 - t) * u) + (c[7] - c[6]) * (t * u);
-        const Vec3 dt = (c[2] - c[0]) * ((1 - s) * (1 - u)) + (c[3] - c[1]) * (s * (1 - u)) +
-                        (c[6] - c[4]) * ((1 - s) * u) + (c[7] - c[5]) * (s * u);
-        const Vec3 du = (c[4] - c[0]) * ((1 - s) * (1 - t)) + (c[5] - c[1]) * (s * (1 - t)) +
-                        (c[6] - c[2]) * ((1 - s) * t) + (c[7] - c[3]) * (s * t);
-        Mat3 J = Mat3::fromColumns(ds, dt, du), Jinv;
-        if (!inverse(J, Jinv, 1e-30f)) break;
-        const Vec3 step = Jinv * f;
-        l -= step;
-        if (lengthSquared(step) < 1e-12f) break; // float precision of local coordinates
-    }
-    return l;
-}
-
 void invertTrilinear4(const Vec3 c[8], const Vec3* p, Vec3* local, int count, int iterations) {
     // Unused lanes repeat the first point: their work is thrown away.
     auto lanes = [&](const Vec3* v, F4& x, F4& y, F4& z) {
@@ -110,8 +86,7 @@ void invertTrilinear4(const Vec3 c[8], const Vec3* p, Vec3* local, int count, in
     F4 px, py, pz, lx, ly, lz;
     lanes(p, px, py, pz);
     lanes(local, lx, ly, lz);
-    // The corners' differences along each axis, as invertTrilinear's partial derivatives take
-    // them (the same floats however often they are formed).
+    // The corners' differences along each axis, for the map's partial derivatives.
     struct Splat {
         F4 x, y, z;
     };

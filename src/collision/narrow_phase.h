@@ -74,13 +74,13 @@ struct NodeBoxHit {
 NodeBoxHit testNodeInBox(const BoxPlanes& planes, const Aabb& nodeBounds, uint8_t outsideFaces,
                          Vec3 p, float skin);
 
-/// Local coordinates (s,t,u) of p in the trilinear map of 8 corner positions (corner
-/// i + 2j + 4k), by Newton's method from `guess`; returns the best iterate.
-Vec3 invertTrilinear(const Vec3 corners[8], Vec3 p, Vec3 guess, int iterations = 6);
-
-/// invertTrilinear for `count` (1 to 4) points of one map at once, in vector lanes: local[k]
-/// (the guess on entry) becomes invertTrilinear(corners, p[k], local[k], iterations), bit for
-/// bit, each lane the same arithmetic in the same order and stopping where it would.
+/// Local coordinates (s,t,u) of `count` (1 to 4) points p in the trilinear map of 8 corner
+/// positions (corner i + 2j + 4k), by Newton's method from the guesses in local[k], which
+/// become the best iterates: at most `iterations` steps, a point stopping where its Jacobian
+/// has no inverse (|det| <= 1e-30) or its step has reached float precision (squared length
+/// under 1e-12). The points go in vector lanes that never mix, so a point's result does not
+/// depend on the others: bit for bit what one point at a time gives by the same steps in
+/// scalar arithmetic (test NarrowPhase.TrilinearInversionInLanesIsTheScalarOneBitForBit).
 void invertTrilinear4(const Vec3 corners[8], const Vec3* p, Vec3* local, int count, int iterations);
 
 /// One cell box for the box-pair test: its 8 nodes (node n = i + 2j + 4k), their local
