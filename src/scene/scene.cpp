@@ -258,13 +258,15 @@ std::string generatorProblem(const std::string& spec) {
         return "\"" + spec + "\" is not a letter generator (expected letter:A..letter:Z)";
     }
     return "unknown generator \"" + spec + "\" (expected letters, " + generatorNames() +
-           ", or {\"file\": \"path\"})";
+           ", {\"file\": \"path\"} or {\"model\": \"name\"})";
 }
 
 SceneObject readObject(Fields f, const std::filesystem::path& file) {
     SceneObject o;
     const Json* mesh = f.find("mesh");
-    if (!mesh) f.fail(f.at("mesh"), "missing (expected a generator name or {\"file\": ...})");
+    if (!mesh)
+        f.fail(f.at("mesh"),
+               "missing (expected a generator name, {\"file\": ...} or {\"model\": ...})");
     if (mesh->is_string()) {
         o.mesh = mesh->get<std::string>();
         if (o.mesh != "letters") {
@@ -272,22 +274,45 @@ SceneObject readObject(Fields f, const std::filesystem::path& file) {
             if (!problem.empty()) f.fail(f.at("mesh"), problem);
         }
     } else if (mesh->is_object()) {
+        // {"file": path}: relative to the scene file's folder; {"model": name}: a file in the
+        // models folder (modelCacheDir: $FFDAABB_MODELS, else the data folders' `models`).
         Fields m(*mesh, f.at("mesh"), file);
-        std::string path;
-        if (!m.string("file", path)) m.fail(m.at("file"), "missing (expected a mesh file path)");
+        std::string path, model;
+        const bool hasFile = m.string("file", path);
+        const bool hasModel = m.string("model", model);
         m.finish();
-        std::filesystem::path p(path);
-        if (p.is_relative() && !file.empty()) p = file.parent_path() / p;
-        if (path.empty()) m.fail(m.at("file"), "empty (expected a mesh file path)");
+        if (hasFile && hasModel)
+            m.fail(m.at("model"), "give either \"file\" or \"model\", not both");
+        if (!hasFile && !hasModel)
+            m.fail(m.at("file"), "missing (expected a mesh file path, or \"model\": a file name "
+                                 "in the models folder)");
+        const char* key = hasModel ? "model" : "file";
+        const std::string& name = hasModel ? model : path;
+        if (name.empty()) m.fail(m.at(key), "empty (expected a mesh file path)");
+        std::filesystem::path p(name);
+        if (hasModel) {
+            const std::filesystem::path rel = p.lexically_normal();
+            if (p.is_absolute() || rel.empty() || *rel.begin() == "..")
+                m.fail(m.at(key), "\"" + name +
+                                      "\" is not inside the models folder (expected a file name "
+                                      "such as \"dragon_vrip_res3.ply.gz\")");
+            p = modelCacheDir() / rel;
+        } else if (p.is_relative() && !file.empty()) {
+            p = file.parent_path() / p;
+        }
         if (!std::filesystem::exists(p))
-            m.fail(m.at("file"), "\"" + path + "\" does not exist (looked for " + p.string() + ")");
+            m.fail(m.at(key), "\"" + name + "\" does not exist (looked for " + p.string() +
+                                  (hasModel ? "; scripts/setup.sh fetches the models, or set "
+                                              "FFDAABB_MODELS to their folder)"
+                                            : ")"));
         if (std::filesystem::is_directory(p))
-            m.fail(m.at("file"), "\"" + path + "\" is a folder (expected a mesh file)");
+            m.fail(m.at(key), "\"" + name + "\" is a folder (expected a mesh file)");
         o.mesh.clear();
         o.meshFile = p;
     } else {
         f.fail(f.at("mesh"),
-               "expected a generator name or {\"file\": ...}, got " + shortValue(*mesh));
+               "expected a generator name, {\"file\": ...} or {\"model\": ...}, got " +
+                   shortValue(*mesh));
     }
     if (f.string("letters", o.letters)) {
         if (o.mesh != "letters") f.fail(f.at("letters"), "only for \"mesh\": \"letters\"");

@@ -18,6 +18,7 @@
 #include <vector>
 
 using namespace ffd;
+using ffd::test::ScopedEnv;
 using ffd::test::TempDir;
 using ffd::test::writeFile;
 namespace fs = std::filesystem;
@@ -238,6 +239,33 @@ TEST(SceneInput, MeshFilesMustExistAndBeFiles) {
     expectError(sceneWith(", \"mesh\": {\"file\": \"models/sub.obj\"}"),
                 {"objects[0].mesh.file", "is a folder"}, scene);
     expectError(sceneWith(", \"mesh\": {\"file\": \"\"}"), {"objects[0].mesh.file", "empty"},
+                scene);
+}
+
+TEST(SceneInput, ModelsAreLookedUpInTheModelsFolder) {
+    // {"model": name} follows $FFDAABB_MODELS, wherever the scene file is.
+    TempDir dir;
+    fs::create_directories(dir / "models" / "sub.obj");
+    writeFile(dir / "models" / "ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                         "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    const ScopedEnv env("FFDAABB_MODELS", (dir / "models").c_str());
+    const fs::path scene = "/elsewhere/scene.json";
+    const Scene s = parseScene(sceneWith(", \"mesh\": {\"model\": \"ok.obj\"}"), scene);
+    EXPECT_EQ(s.objects[0].meshFile, dir / "models" / "ok.obj");
+    expectError(sceneWith(", \"mesh\": {\"model\": \"absent.ply.gz\"}"),
+                {"objects[0].mesh.model", "absent.ply.gz", "does not exist",
+                 (dir / "models" / "absent.ply.gz").string(), "FFDAABB_MODELS"},
+                scene);
+    expectError(sceneWith(", \"mesh\": {\"model\": \"sub.obj\"}"),
+                {"objects[0].mesh.model", "is a folder"}, scene);
+    expectError(sceneWith(", \"mesh\": {\"model\": \"\"}"), {"objects[0].mesh.model", "empty"},
+                scene);
+    for (const std::string outside : {"../ok.obj", "/etc/hostname", "sub.obj/../../ok.obj"})
+        expectError(sceneWith(", \"mesh\": {\"model\": \"" + outside + "\"}"),
+                    {"objects[0].mesh.model", outside, "not inside the models folder"}, scene);
+    expectError(sceneWith(", \"mesh\": {\"model\": \"ok.obj\", \"file\": \"ok.obj\"}"),
+                {"objects[0].mesh.model", "not both"}, scene);
+    expectError(sceneWith(", \"mesh\": {\"model\": 3}"), {"objects[0].mesh.model", "a string"},
                 scene);
 }
 
