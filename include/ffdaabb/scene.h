@@ -53,9 +53,8 @@
 namespace ffd {
 
 struct SceneObject {
-    std::string mesh = "sphere"; ///< generator name, "letters", or "" when meshFile is set
-    std::filesystem::path
-        meshFile; ///< a mesh file (`file`: relative to the scene file; `model`: in modelCacheDir())
+    std::string mesh = "sphere";    ///< generator name, "letters", or "" when meshFile is set
+    std::filesystem::path meshFile; ///< a mesh file (a scene's `file` or `model`, resolved)
     std::string letters = "ABCDEFGHIJKLMNOPQRSTUVWXYZ";
     int count = 1;
     float size = 1.0f;   ///< largest extent after normalisation, metres
