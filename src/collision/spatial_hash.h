@@ -149,7 +149,12 @@ public:
         std::vector<int32_t> range;      ///< per query: i0, i1, j0, j1, k0, k1 of its cells
         std::vector<uint32_t> cellStart; ///< per cell of the group's block: its queries (CSR)
         std::vector<uint32_t> cellQueries;
-        std::vector<uint32_t> live; ///< the block's cells with any query, in order
+        /// The block's cells with any query, in order: coordinates and index in the block.
+        struct LiveCell {
+            int32_t i, j, k;
+            uint32_t cell;
+        };
+        std::vector<LiveCell> live;
     };
 
     /// The largest block of cells forEachNearAll groups its queries in; past it, it queries them
@@ -205,10 +210,13 @@ public:
         for (size_t q = 0; q < queries; ++q)
             forCells(&g.range[q * 6], [&](size_t c) { ++g.cellStart[c + 1]; });
         g.live.clear();
-        for (size_t c = 0; c < cells; ++c) {
-            if (g.cellStart[c + 1]) g.live.push_back(uint32_t(c));
-            g.cellStart[c + 1] += g.cellStart[c];
-        }
+        size_t place = 0; // at(i, j, k), counted along
+        for (int32_t k = lo[2]; k <= hi[2]; ++k)
+            for (int32_t j = lo[1]; j <= hi[1]; ++j)
+                for (int32_t i = lo[0]; i <= hi[0]; ++i, ++place) {
+                    if (g.cellStart[place + 1]) g.live.push_back({i, j, k, uint32_t(place)});
+                    g.cellStart[place + 1] += g.cellStart[place];
+                }
         g.cellQueries.resize(g.cellStart[cells]);
         for (size_t q = 0; q < queries; ++q)
             forCells(&g.range[q * 6],
@@ -219,10 +227,7 @@ public:
         forEachLiveCell(
             skipOwner,
             [&](auto&& emit) {
-                for (const uint32_t c : g.live)
-                    emit(lo[0] + int32_t(c % size_t(ni)),
-                         lo[1] + int32_t(c / size_t(ni) % size_t(nj)),
-                         lo[2] + int32_t(c / size_t(ni * nj)), c);
+                for (const GroupScratch::LiveCell& c : g.live) emit(c.i, c.j, c.k, c.cell);
             },
             [&](const int32_t* c, size_t cell, uint32_t first, uint32_t end) {
                 for (uint32_t k = g.cellStart[cell]; k < g.cellStart[cell + 1]; ++k) {
