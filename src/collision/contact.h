@@ -434,6 +434,9 @@ struct CollisionState {
         /// The partners of the body whose boxes it flags: their bounds one by one, or their
         /// unions when there are many.
         std::vector<Aabb> partnerBounds, partnerQueryBounds;
+        /// The same bounds four partners to a group, six lanes a group (lo x, y, z, hi x, y, z;
+        /// NaN past the last partner).
+        std::vector<F4> partnerLanes, partnerQueryLanes;
         Aabb reachUnion, queryUnion;
         bool individual = true;
         /// The querying body's queried boxes and their query bounds, and the grouped query's
