@@ -288,7 +288,9 @@ SceneObject readObject(Fields f, const std::filesystem::path& file) {
                                  "in the models folder)");
         const char* key = hasModel ? "model" : "file";
         const std::string& name = hasModel ? model : path;
-        if (name.empty()) m.fail(m.at(key), "empty (expected a mesh file path)");
+        if (name.empty())
+            m.fail(m.at(key), hasModel ? "empty (expected a file name in the models folder)"
+                                       : "empty (expected a mesh file path)");
         std::filesystem::path p(name);
         if (hasModel) {
             const std::filesystem::path rel = p.lexically_normal();
