@@ -20,12 +20,18 @@ namespace {
 // first's by more than this share of the smaller skin (narrow_phase.h boxPairManifold).
 constexpr float kReferenceTolerance = 0.1f;
 
-// The reach every hash query covers beyond its box, as a share of the hash cell: a node whose
-// body's reach is larger is stored in the cells of its cube shrunk by this much
-// (spatial_hash.h). Measured against the rule before per-body reaches (alphabets, spheres; 200
-// frames, enhanced, side by side): 0 (every fast node in every cell its cube meets) 1.42x and
-// 1.39x the time, 1/8 1.21x and 1.17x, 1/4 1.07x and 1.19x, 1/2 1.06x and 1.40x.
-constexpr float kReachAllowance = 0.25f;
+// The reach every hash query covers beyond its box (SpatialHash::begin's allowance): the largest
+// reach of the bodies hashed in the substep, so that every node is stored in its own cell only
+// and a body's queries grow by its partners' largest reach, no further (forEachNearAll), but
+// at least this share of the hash cell and at most a whole cell (past it, the nodes of the
+// fastest bodies are stored in the cells of their cubes shrunk by the allowance). Below a
+// quarter the allowance costs nothing: no node's reach exceeds it and every query grows by its
+// partners' reach alone. Measured against a quarter of a cell always, interleaved frame by
+// frame (docs/BENCHMARKS.md, "Phase 2's allowance follows the reach"): while the piles land
+// (frames 0-60) object_contacts takes 0.34-0.40 of its time on the teapots, 0.46-0.47 on the
+// dragons and 0.72 on the alphabets, and over the benchmark's frames 0.76-0.79, 0.58-0.68 and
+// 0.98; the results are the same.
+constexpr float kLeastAllowance = 0.25f, kMostAllowance = 1.0f;
 
 // No box pair (both halves the same box).
 constexpr uint64_t kNoKey = ~uint64_t(0);
@@ -587,7 +593,11 @@ void findObjectContacts(CollisionWorld& w, CollisionMode mode, ContactList& out,
         if (isCandidate(b))
             sampleCount += s.hashedSamples[b], cell = maxNum(cell, w.bodies[b].cellSize);
     if (sampleCount == 0) return;
-    s.hash.begin(sampleCount, cell, s.reach, kReachAllowance * cell);
+    float reach = 0;
+    for (uint32_t b = 0; b < n; ++b)
+        if (s.hashedSamples[b] > 0) reach = maxNum(reach, s.reach[b]);
+    const float allowance = std::clamp(reach, kLeastAllowance * cell, kMostAllowance * cell);
+    s.hash.begin(sampleCount, cell, s.reach, allowance);
     // The hashed boxes' samples staged in batches of bodies on the threads, added in body order.
     constexpr size_t kBodiesPerBatch = 16;
     const size_t batches = (n + kBodiesPerBatch - 1) / kBodiesPerBatch;

@@ -463,12 +463,12 @@ TEST(SpatialHash, FindsEveryItemOfACellAndNothingOfOthers) {
 
 // Items with a reach (per owner) stand for cubes: a range query reports, exactly once, every
 // item whose cube meets its bounds and nothing else, with and without an allowance, however
-// many cells the cubes and the bounds cover.
+// many cells the cubes and the bounds cover (allowances up to a whole cell, as phase 2 uses).
 TEST(SpatialHash, ReachCubesAreFoundExactlyOnce) {
     std::mt19937 rng(21);
     std::uniform_real_distribution<float> u(-3, 3), r(0, 1);
     const std::vector<float> reach = {0.0f, 0.05f, 0.3f, 0.9f, 2.5f};
-    for (float allowance : {0.0f, 0.1f, 0.25f}) {
+    for (float allowance : {0.0f, 0.1f, 0.25f, 0.5f}) {
         detail::SpatialHash hash;
         hash.begin(400, 0.5f, reach, allowance);
         std::vector<Vec3> points(400);
@@ -509,7 +509,7 @@ TEST(SpatialHash, QueriesMadeTogetherFindWhatEachFindsAlone) {
     std::mt19937 rng(57);
     std::uniform_real_distribution<float> u(-3, 3), r(0, 0.6f), spread(-0.8f, 0.8f);
     const std::vector<float> reach = {0.0f, 0.05f, 0.3f, 0.9f, 2.5f};
-    for (float allowance : {0.0f, 0.25f}) {
+    for (float allowance : {0.0f, 0.1f, 0.25f}) {
         detail::SpatialHash hash;
         hash.begin(600, 0.25f, reach, allowance);
         std::vector<Vec3> points(600);
@@ -892,6 +892,43 @@ TEST(CollisionModes, SweepFindsFastBodiesWithReversedParticles) {
     EXPECT_GT(brute.size(), 100u);
     EXPECT_EQ(contactSet(w, CollisionMode::Previous), brute);
     EXPECT_EQ(contactSet(w, CollisionMode::Enhanced), brute);
+}
+
+// Phase 2's allowance follows the fastest hashed body's reach, up to a whole hash cell: while no
+// body's reach exceeds a cell, every node and box centre is stored in its own cell only (none in
+// several, none kept apart), however fast the bodies, and the contacts are those brute force
+// finds. Balls thrown at each other in pairs, faster pair after pair.
+TEST(ObjectContacts, NodesAreStoredInTheirOwnCellWhileNoReachExceedsACell) {
+    World world;
+    for (int i = 0; i < 6; ++i) {
+        const float speed = 2.0f + 3.0f * float(i), z = 3.0f * float(i);
+        world.addBody(test::ball(), test::sphereAt({-0.6f, 1.5f, z}, {speed, 0, 0}));
+        world.addBody(test::ball(), test::sphereAt({0.6f, 1.5f, z}, {-speed, 0, 0}));
+    }
+    detail::WorldData& w = detail::dataOf(world);
+    const float cell = w.collision.bodies.empty() ? 0.0f : w.collision.bodies[0].cellSize;
+    int checked = 0, beyondAQuarter = 0;
+    for (int f = 0; f < 30; ++f) {
+        world.step();
+        if (world.profile().potentialPairs == 0) continue; // no query in the last substep
+        float reach = 0;
+        size_t samples = 0;
+        for (size_t b = 0; b < w.collision.reach.size(); ++b)
+            if (w.collision.hashedSamples[b] > 0) {
+                reach = std::max(reach, w.collision.reach[b]);
+                samples += w.collision.hashedSamples[b];
+            }
+        ASSERT_GT(cell, 0.0f);
+        if (reach > cell) continue;
+        ++checked;
+        beyondAQuarter += reach > 0.25f * cell;
+        EXPECT_EQ(w.collision.hash.entryCount(), samples) << "frame " << f << " reach " << reach;
+        EXPECT_EQ(w.collision.hash.wideCount(), 0u) << "frame " << f;
+        EXPECT_EQ(contactSet(w, CollisionMode::Enhanced), contactSet(w, CollisionMode::Brute))
+            << "frame " << f;
+    }
+    EXPECT_GE(checked, 3);
+    EXPECT_GE(beyondAQuarter, 2); // where a quarter of a cell stored fast nodes in several cells
 }
 
 TEST(CollisionModes, SweepAndAllPairsAgree) {
